@@ -1,0 +1,188 @@
+//! The pinhole camera: which ray leaves the eye for each pixel sample.
+
+use crate::error::Error;
+use crate::geometry::Ray;
+use crate::math::Vec3;
+
+/// Largest accepted image width or height.
+pub const MAX_SIZE: u32 = 16384;
+
+/// A pinhole camera with its image size.
+///
+/// `w = normalize(look_at − eye)`, `u = normalize(w × up)`, `v = u × w`; pixel (i, j), row 0 at
+/// the top, covers `[i, i+1) × [j, j+1)` in image coordinates.
+///
+/// ```
+/// use microray::{Camera, Vec3};
+/// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 60.0, 4, 3)?;
+/// let centre = cam.ray(2.0, 1.5); // the middle of the image looks straight at look_at
+/// assert_eq!(centre.dir, Vec3::new(0.0, 0.0, -1.0));
+/// # Ok::<(), microray::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    eye: Vec3,
+    u: Vec3,
+    v: Vec3,
+    w: Vec3,
+    width: u32,
+    height: u32,
+    // px = x·sx − ox, py = oy − y·sy
+    sx: f32,
+    ox: f32,
+    sy: f32,
+    oy: f32,
+}
+
+impl Camera {
+    /// A camera at `eye` looking at `look_at`, with `vfov` the full vertical field of view in
+    /// degrees, for a `width`×`height` image.
+    ///
+    /// ```
+    /// # use microray::{Camera, Error, Vec3};
+    /// let up = Vec3::new(0.0, 1.0, 0.0);
+    /// let bad = Camera::new(Vec3::ZERO, Vec3::new(0.0, 5.0, 0.0), up, 60.0, 4, 3);
+    /// assert_eq!(bad, Err(Error::UpParallelToView));
+    /// assert_eq!(Camera::new(Vec3::ZERO, Vec3::ZERO, up, 60.0, 4, 3), Err(Error::EyeAtLookAt));
+    /// ```
+    pub fn new(
+        eye: Vec3,
+        look_at: Vec3,
+        up: Vec3,
+        vfov: f32,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, Error> {
+        if !(eye.is_finite() && look_at.is_finite() && up.is_finite()) {
+            return Err(Error::NotFinite);
+        }
+        if !(vfov > 0.0 && vfov < 180.0) {
+            return Err(Error::InvalidFov);
+        }
+        if !(1..=MAX_SIZE).contains(&width) || !(1..=MAX_SIZE).contains(&height) {
+            return Err(Error::InvalidSize);
+        }
+        let w = (look_at - eye).normalized().ok_or(Error::EyeAtLookAt)?;
+        // `up` is normalised first so that a tiny or huge `up` neither underflows nor overflows
+        // the cross product.
+        let up = up.normalized().ok_or(Error::UpParallelToView)?;
+        let cross = w.cross(up);
+        let len = cross.length();
+        if !(len > 1e-6) {
+            return Err(Error::UpParallelToView);
+        }
+        let u = cross / len;
+        let v = u.cross(w);
+        let a = libm::tanf(vfov * (core::f32::consts::PI / 360.0));
+        let (wf, hf) = (width as f32, height as f32);
+        Ok(Camera {
+            eye,
+            u,
+            v,
+            w,
+            width,
+            height,
+            sx: 2.0 * a / hf,
+            ox: a * wf / hf,
+            sy: 2.0 * a / hf,
+            oy: a,
+        })
+    }
+
+    /// The eye point, where every primary ray starts.
+    ///
+    /// ```
+    /// # use microray::{Camera, Vec3};
+    /// let cam = Camera::new(Vec3::ONE, Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8)?;
+    /// assert_eq!(cam.eye(), Vec3::ONE);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn eye(&self) -> Vec3 {
+        self.eye
+    }
+
+    /// Image width in pixels.
+    ///
+    /// ```
+    /// # use microray::{Camera, Vec3};
+    /// let cam = Camera::new(Vec3::ONE, Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 6)?;
+    /// assert_eq!((cam.width(), cam.height()), (8, 6));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Image height in pixels.
+    ///
+    /// ```
+    /// # use microray::{Camera, Vec3};
+    /// let cam = Camera::new(Vec3::ONE, Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 6)?;
+    /// assert_eq!(cam.height(), 6);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The camera basis `(u, v, w)`: right, up and forward unit vectors.
+    ///
+    /// ```
+    /// # use microray::{Camera, Vec3};
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 6)?;
+    /// assert_eq!(cam.basis().2, Vec3::new(0.0, 0.0, -1.0));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
+        (self.u, self.v, self.w)
+    }
+
+    /// The unnormalised direction `w + px·u + py·v` through image point `(x, y)`.
+    ///
+    /// ```
+    /// # use microray::{Camera, Vec3};
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 90.0, 2, 2)?;
+    /// let d = cam.direction(0.0, 0.0); // top-left corner: one unit left, one up
+    /// assert!((d - Vec3::new(-1.0, 1.0, -1.0)).length() < 1e-6);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    #[inline]
+    pub fn direction(&self, x: f32, y: f32) -> Vec3 {
+        let px = x * self.sx - self.ox;
+        let py = self.oy - y * self.sy;
+        self.w + self.u * px + self.v * py
+    }
+
+    /// The primary ray through image point `(x, y)` (pixel (i, j) spans `[i, i+1) × [j, j+1)`),
+    /// with a unit direction.
+    ///
+    /// ```
+    /// # use microray::{Camera, Vec3};
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 60.0, 4, 4)?;
+    /// let ray = cam.ray(2.0, 2.0);
+    /// assert_eq!((ray.origin, ray.dir), (Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0)));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    #[inline]
+    pub fn ray(&self, x: f32, y: f32) -> Ray {
+        Ray::new(self.eye, self.direction(x, y).normalize_fast())
+    }
+
+    /// The ray for sample `(sx, sy)` of an `samples`×`samples` grid in pixel `(i, j)`: the
+    /// lecture's view ray, at `x = i + (sx + 0.5)/samples`, `y = j + (sy + 0.5)/samples`.
+    ///
+    /// ```
+    /// # use microray::{Camera, Vec3};
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 60.0, 4, 4)?;
+    /// assert_eq!(cam.view_ray(1, 1, 1, 1, 2), cam.ray(2.0, 2.0));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    #[inline]
+    pub fn view_ray(&self, i: u32, j: u32, sx: u32, sy: u32, samples: u32) -> Ray {
+        let n = samples as f32;
+        self.ray(
+            i as f32 + (sx as f32 + 0.5) / n,
+            j as f32 + (sy as f32 + 0.5) / n,
+        )
+    }
+}

@@ -1,0 +1,72 @@
+//! The one error type: everything that can go wrong is found while a scene, camera or frame is
+//! built, never in the pixel loop.
+
+use core::fmt;
+
+/// Why a scene, camera, frame or buffer was rejected.
+///
+/// ```
+/// use microray::{Error, Material, Scene, Sphere, Vec3};
+/// let mut scene: Scene<1, 0> = Scene::new();
+/// let ball = Sphere::new(Vec3::ZERO, 1.0);
+/// scene.add_sphere(ball, Material::default()).unwrap();
+/// assert_eq!(scene.add_sphere(ball, Material::default()), Err(Error::TooManySpheres));
+/// assert_eq!(Error::TooManySpheres.to_string(), "more spheres than the scene's capacity");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Error {
+    /// More spheres than the scene's capacity `S`.
+    TooManySpheres,
+    /// More lights than the scene's capacity `L`.
+    TooManyLights,
+    /// A position or vector with a NaN or infinite component.
+    NotFinite,
+    /// A radius that is not finite and > 0.
+    InvalidRadius,
+    /// A colour (diffuse, specular, mirror, intensity, ambient, background) with a negative,
+    /// NaN or infinite channel.
+    InvalidColor,
+    /// A shininess that is not finite and > 0.
+    InvalidShininess,
+    /// A directional light whose direction is the zero vector.
+    ZeroDirection,
+    /// The camera's eye and look-at points coincide.
+    EyeAtLookAt,
+    /// The camera's up vector is zero or parallel to the view direction.
+    UpParallelToView,
+    /// A vertical field of view outside (0, 180) degrees.
+    InvalidFov,
+    /// An image width or height outside 1..=16384.
+    InvalidSize,
+    /// Samples per axis outside 1..=16.
+    InvalidSamples,
+    /// A reflection depth above 16.
+    InvalidMaxDepth,
+    /// A pixel buffer whose length is not a whole number of rows inside the image.
+    BufferSize,
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Error::TooManySpheres => "more spheres than the scene's capacity",
+            Error::TooManyLights => "more lights than the scene's capacity",
+            Error::NotFinite => "a coordinate is NaN or infinite",
+            Error::InvalidRadius => "radius must be finite and > 0",
+            Error::InvalidColor => "colour channels must be finite and >= 0",
+            Error::InvalidShininess => "shininess must be finite and > 0",
+            Error::ZeroDirection => "light direction must not be zero",
+            Error::EyeAtLookAt => "eye and look_at must differ",
+            Error::UpParallelToView => "up must not be zero or parallel to the view direction",
+            Error::InvalidFov => "vfov must be in (0, 180) degrees",
+            Error::InvalidSize => "width and height must be in 1..=16384",
+            Error::InvalidSamples => "samples must be in 1..=16",
+            Error::InvalidMaxDepth => "max_depth must be in 0..=16",
+            Error::BufferSize => "buffer length must be a whole number of rows inside the image",
+        })
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for Error {}

@@ -1,0 +1,295 @@
+//! Rays, spheres and their intersection: all of microray's intersection code is in this file.
+//!
+//! A ray `o + t·d` meets a sphere (centre `m`, radius `r`) where `a t² + 2 b t + c = 0` with
+//! `f = o − m`, `a = d·d`, `b = f·d`, `c = f·f − r²`. The textbook formula
+//! `(−b ± √(b² − a c)) / a` fails in f32 in three ways, each answered below:
+//!
+//! 1. **Far or small spheres** (`|f| ≫ r`): `b²` and `a c` agree in almost every bit, so
+//!    `b² − a c` is noise. We use Hearn and Baker's form `a (r² − |f − (b/a) d|²)`, whose error
+//!    scales with `ε |f| r` instead of `ε |f|²`.
+//! 2. **The root near zero** (`−b + √…` with `√… ≈ b`): computed as `c / q` with
+//!    `q = −(b + sign(b) √…)`, which never subtracts nearly equal numbers (the "stable roots" of
+//!    Press et al., Ray Tracing Gems ch. 7).
+//! 3. **Huge spheres seen from nearby** (a ground of radius 10⁶ one unit below the eye):
+//!    `c = |f|² − r²` cancels; in f32 it is off by percents. Where the f32 value has lost more
+//!    than ~10 of its 24 bits we recompute it in f64, where the squares of f32 numbers are exact
+//!    and the sum is good to ~10⁻¹⁶ of `|f|²`. For rays that share an origin (primary rays,
+//!    shadow rays cast from a point light) [`Prepared::exact`] does this once per frame.
+//!
+//! Everything else stays in f32; f64 is only the rare fallback, and it is IEEE-exact on every
+//! target (soft-float included), so a microcontroller still computes the host's bits.
+
+use crate::math::{sqrt, Vec3};
+
+/// A ray `origin + t·dir`; `dir` need not be unit length.
+///
+/// ```
+/// use microray::{Ray, Vec3};
+/// let ray = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -2.0));
+/// assert_eq!(ray.at(1.5), Vec3::new(0.0, 0.0, -3.0));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ray {
+    /// Where the ray starts.
+    pub origin: Vec3,
+    /// Its direction; any finite non-zero length.
+    pub dir: Vec3,
+}
+
+impl Ray {
+    /// A ray from its origin and direction.
+    ///
+    /// ```
+    /// # use microray::{Ray, Vec3};
+    /// let ray = Ray::new(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0));
+    /// assert_eq!(ray.dir.x, 1.0);
+    /// ```
+    #[inline]
+    pub const fn new(origin: Vec3, dir: Vec3) -> Self {
+        Ray { origin, dir }
+    }
+
+    /// The point at parameter `t`.
+    ///
+    /// ```
+    /// # use microray::{Ray, Vec3};
+    /// let ray = Ray::new(Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+    /// assert_eq!(ray.at(2.0), Vec3::new(1.0, 2.0, 0.0));
+    /// ```
+    #[inline]
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + self.dir * t
+    }
+}
+
+/// A sphere: the only shape microray knows.
+///
+/// ```
+/// use microray::{Sphere, Vec3};
+/// let s = Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0); // a ground plane, nearly
+/// assert_eq!(s.radius, 1000.0);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sphere {
+    /// Its centre.
+    pub center: Vec3,
+    /// Its radius; the scene accepts only finite values > 0.
+    pub radius: f32,
+}
+
+impl Sphere {
+    /// A sphere from its centre and radius (checked when added to a [`Scene`](crate::Scene)).
+    ///
+    /// ```
+    /// # use microray::{Sphere, Vec3};
+    /// let s = Sphere::new(Vec3::ZERO, 1.0);
+    /// assert_eq!(s.center, Vec3::ZERO);
+    /// ```
+    #[inline]
+    pub const fn new(center: Vec3, radius: f32) -> Self {
+        Sphere { center, radius }
+    }
+}
+
+/// The closest root of the ray–sphere equation inside `[tmin, tmax]`, or `None`.
+///
+/// This is the lecture's `ray_intersect(ray, sphere, tmin, tmax)`, written to stay accurate in
+/// f32 for tiny, far and huge spheres (see the module documentation). A NaN or infinite input
+/// never yields a hit.
+///
+/// ```
+/// use microray::{ray_intersect, Ray, Sphere, Vec3};
+/// let sphere = Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0);
+/// let ray = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0));
+/// assert_eq!(ray_intersect(&ray, &sphere, 0.0, f32::INFINITY), Some(4.0));
+/// // the far root, when the near one is outside the interval
+/// assert_eq!(ray_intersect(&ray, &sphere, 4.5, f32::INFINITY), Some(6.0));
+/// assert_eq!(ray_intersect(&ray, &sphere, 0.0, 3.0), None);
+/// ```
+#[inline]
+pub fn ray_intersect(ray: &Ray, sphere: &Sphere, tmin: f32, tmax: f32) -> Option<f32> {
+    Prepared::new(ray.origin, sphere).hit(ray.dir, tmin, tmax)
+}
+
+/// What a ray origin and a sphere share, whatever the ray's direction: `f = o − m` and
+/// `c = |f|² − r²` (negative when the origin is inside).
+///
+/// Build it once per origin and sphere (see [`Prepared::exact`]) and intersect many directions
+/// with [`Prepared::hit`]: this is how primary rays and point-light shadow rays are traced.
+///
+/// ```
+/// use microray::{Prepared, Sphere, Vec3};
+/// let ground = Sphere::new(Vec3::new(0.0, -1e6, 0.0), 1e6);
+/// let eye = Vec3::new(0.0, 1.0, 0.0);
+/// let k = Prepared::exact(eye, &ground);
+/// assert_eq!(k.c, 2_000_001.0); // (1e6 + 1)² − 1e12, exact; plain f32 says 2_031_616
+/// let t = k.hit(Vec3::new(0.0, -1.0, 1.0), 0.0, f32::INFINITY).unwrap();
+/// assert!((t - 1.0).abs() < 1e-6);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Prepared {
+    /// `o − m`, rounded to f32.
+    pub f: Vec3,
+    /// `|o − m|² − r²`, accurate to a few ulp even where the subtraction cancels.
+    pub c: f32,
+    /// The sphere's radius.
+    pub r: f32,
+}
+
+/// `c` in f64 from exact differences: for f32 inputs `x − y` and `x²` lose nothing in f64
+/// (except at extreme exponent gaps), so only the final sum rounds.
+fn c_f64(o: Vec3, m: Vec3, r: f32) -> f64 {
+    let fx = o.x as f64 - m.x as f64;
+    let fy = o.y as f64 - m.y as f64;
+    let fz = o.z as f64 - m.z as f64;
+    let r = r as f64;
+    fx * fx + fy * fy + fz * fz - r * r
+}
+
+impl Prepared {
+    /// The constants for rays from `origin`, with `c` always computed through f64: for origins
+    /// that many rays share (the eye, a point light), where it is worth its cost.
+    ///
+    /// ```
+    /// # use microray::{Prepared, Sphere, Vec3};
+    /// let k = Prepared::exact(Vec3::ZERO, &Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0));
+    /// assert_eq!((k.f, k.c), (Vec3::new(0.0, 0.0, 3.0), 8.0));
+    /// ```
+    pub fn exact(origin: Vec3, sphere: &Sphere) -> Self {
+        Prepared {
+            f: origin - sphere.center,
+            c: c_f64(origin, sphere.center, sphere.radius) as f32,
+            r: sphere.radius,
+        }
+    }
+
+    /// The constants for one ray from `origin`: `c` in f32, redone in f64 only where the f32
+    /// subtraction has cancelled more than ~10 bits (an origin close to the surface of a sphere
+    /// that is large for its distance) or overflowed.
+    ///
+    /// ```
+    /// # use microray::{Prepared, Sphere, Vec3};
+    /// let ground = Sphere::new(Vec3::new(0.0, -1e6, 0.0), 1e6);
+    /// assert_eq!(Prepared::new(Vec3::new(0.0, 1.0, 0.0), &ground).c, 2_000_001.0);
+    /// ```
+    #[inline]
+    pub fn new(origin: Vec3, sphere: &Sphere) -> Self {
+        let f = origin - sphere.center;
+        let r = sphere.radius;
+        let (ff, rr) = (f.dot(f), r * r);
+        let c = ff - rr;
+        // 2⁻¹¹ (ff + rr) bounds |c| from below when at least ~10 bits survive the subtraction;
+        // the f32 error of c is about 2⁻²³ (ff + rr).
+        let c = if libm::fabsf(c) > (ff + rr) * (1.0 / 2048.0) && c.is_finite() {
+            c
+        } else {
+            c_f64(origin, sphere.center, r) as f32
+        };
+        Prepared { f, c, r }
+    }
+
+    /// The closest root in `[tmin, tmax]` of the ray from this origin along `d` (any length).
+    ///
+    /// ```
+    /// # use microray::{Prepared, Sphere, Vec3};
+    /// let k = Prepared::exact(Vec3::ZERO, &Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0));
+    /// assert_eq!(k.hit(Vec3::new(0.0, 0.0, -2.0), 0.0, 10.0), Some(1.0)); // unnormalised d
+    /// ```
+    #[inline]
+    pub fn hit(&self, d: Vec3, tmin: f32, tmax: f32) -> Option<f32> {
+        let (near, far) = self.roots(d)?;
+        if near >= tmin && near <= tmax {
+            Some(near)
+        } else if far >= tmin && far <= tmax {
+            Some(far)
+        } else {
+            None
+        }
+    }
+
+    /// Both roots `(near, far)` of the ray along `d`, or `None` when it misses the sphere.
+    ///
+    /// ```
+    /// # use microray::{Prepared, Sphere, Vec3};
+    /// let k = Prepared::exact(Vec3::ZERO, &Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0));
+    /// assert_eq!(k.roots(Vec3::new(0.0, 0.0, -1.0)), Some((2.0, 4.0)));
+    /// assert_eq!(k.roots(Vec3::new(0.0, 1.0, 0.0)), None);
+    /// ```
+    #[inline]
+    pub fn roots(&self, d: Vec3) -> Option<(f32, f32)> {
+        let f = self.f;
+        let (a, b, c, r) = (d.dot(d), f.dot(d), self.c, self.r);
+        // Where the origin is within ~0.4 r of the surface (|c| ≤ r²), b² − a c does not
+        // cancel badly and is the more accurate for huge spheres; elsewhere Hearn–Baker.
+        let disc = if libm::fabsf(c) <= r * r {
+            b * b - a * c
+        } else {
+            let l = f - d * (b / a);
+            a * (r * r - l.dot(l))
+        };
+        if !(a.is_finite() && b.is_finite() && c.is_finite() && disc.is_finite()) {
+            return roots_f64(f, d, r);
+        }
+        if !(disc >= 0.0) {
+            return None;
+        }
+        let s = sqrt(disc);
+        // q has the sign of −b, so −b and ∓s never cancel.
+        let q = if b > 0.0 { -(b + s) } else { s - b };
+        if q == 0.0 {
+            // b = 0 and a tangent: both roots at t = 0 (origin on the surface, d along it).
+            return Some((0.0, 0.0));
+        }
+        let (t0, t1) = (c / q, q / a);
+        Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+    }
+}
+
+/// The same roots, all in f64: for inputs whose squares overflow f32 (centres near 10¹⁹).
+#[cold]
+fn roots_f64(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
+    let f = [f.x as f64, f.y as f64, f.z as f64];
+    let d = [d.x as f64, d.y as f64, d.z as f64];
+    let r = r as f64;
+    let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    let (a, b) = (dot(d, d), dot(f, d));
+    let c = dot(f, f) - r * r;
+    let k = b / a;
+    let l = [f[0] - k * d[0], f[1] - k * d[1], f[2] - k * d[2]];
+    let disc = a * (r * r - dot(l, l));
+    if !(disc >= 0.0) || !disc.is_finite() || !c.is_finite() || !(a > 0.0) {
+        return None;
+    }
+    let s = libm::sqrt(disc);
+    let q = if b > 0.0 { -(b + s) } else { s - b };
+    if q == 0.0 {
+        return Some((0.0, 0.0));
+    }
+    let (t0, t1) = ((c / q) as f32, (q / a) as f32);
+    Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+}
+
+/// For a ray that starts on the surface of a sphere (`f = o − m` with `|f| = r`): the
+/// parameter where it leaves the sphere again, or `None` when it heads outwards.
+///
+/// The roots of a quadratic sum to `−2b/a`; one of them is the origin itself, so the other is
+/// `−2b/a` exactly as far as b goes. Computing it this way instead of intersecting the sphere
+/// the ray starts on is what makes shadow and mirror rays free of self-hits ("acne") without
+/// an epsilon.
+///
+/// ```
+/// use microray::geometry::exit_root;
+/// use microray::Vec3;
+/// // From the top of a unit sphere straight down: out through the bottom at t = 2.
+/// assert_eq!(exit_root(Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, -1.0, 0.0)), Some(2.0));
+/// assert_eq!(exit_root(Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)), None);
+/// ```
+#[inline]
+pub fn exit_root(f: Vec3, d: Vec3) -> Option<f32> {
+    let t = -2.0 * f.dot(d) / d.dot(d);
+    if t > 0.0 {
+        Some(t)
+    } else {
+        None
+    }
+}

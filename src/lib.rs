@@ -1,0 +1,57 @@
+//! # microray
+//!
+//! A sphere ray tracer for microcontrollers that desktops can use too: `#![no_std]`, no heap,
+//! every float function from [`libm`] so that a Cortex-M computes the same pixels as the host.
+//!
+//! The layers, each one module: [`math`] → [`geometry`] (rays, spheres, intersection) →
+//! [`scene`] → [`camera`] → [`shading`] (the shading model) → [`render`] (frames, bands,
+//! pixels) → [`output`] (embedded-graphics displays). With the `scene-file` feature (std),
+//! [`scene_file`] reads the TOML scene format.
+//!
+//! ```
+//! use embedded_graphics::pixelcolor::Rgb888;
+//! use microray::{Camera, Color, Frame, Light, Material, RenderOptions, Scene, Sphere, Vec3};
+//!
+//! // Capacities are the caller's choice: here 4 spheres and 2 lights, no heap.
+//! let mut scene: Scene<4, 2> = Scene::new();
+//! scene.set_ambient(Color::splat(0.05))?;
+//! scene.add_sphere(Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0), Material::default())?;
+//! scene.add_sphere(
+//!     Sphere::new(Vec3::new(0.0, 1.0, 0.0), 1.0),
+//!     Material { diffuse: Color::new(0.8, 0.2, 0.2), specular: Color::splat(0.5), ..Material::default() },
+//! )?;
+//! scene.add_light(Light::Point { position: Vec3::new(3.0, 5.0, 4.0), intensity: Color::splat(0.8) })?;
+//!
+//! let camera = Camera::new(Vec3::new(0.0, 1.0, 6.0), Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.0, 1.0, 0.0), 45.0, 64, 48)?;
+//! let frame = Frame::new(&scene, &camera, RenderOptions::default())?;
+//! let mut row = [Rgb888::new(0, 0, 0); 64]; // one row at a time: no framebuffer needed
+//! for j in 0..48 {
+//!     frame.render_rows(j, &mut row)?;
+//! }
+//! # Ok::<(), microray::Error>(())
+//! ```
+#![no_std]
+#![deny(unsafe_code)]
+#![deny(missing_docs)]
+
+#[cfg(feature = "std")]
+extern crate std;
+
+pub mod camera;
+pub mod error;
+pub mod geometry;
+pub mod math;
+pub mod output;
+pub mod render;
+pub mod scene;
+#[cfg(feature = "scene-file")]
+pub mod scene_file;
+pub mod shading;
+
+pub use camera::Camera;
+pub use error::Error;
+pub use geometry::{ray_intersect, Prepared, Ray, Sphere};
+pub use math::{Color, Vec3};
+pub use render::{Encoding, Frame, RenderOptions};
+pub use scene::{Hit, Light, Material, Scene};
+pub use shading::{shade, trace};

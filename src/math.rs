@@ -1,0 +1,276 @@
+//! Vectors, colours and the few float functions the tracer needs.
+//!
+//! Every float function goes through [`libm`] (or a hardware instruction that returns the same,
+//! correctly rounded bits), never through std's inherent methods: the host and a microcontroller
+//! must compute identical pixels. Rust never fuses `a * b + c` into an FMA on its own, so plain
+//! arithmetic is reproducible as written.
+
+use core::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
+
+/// A vector in 3-D space, also used for linear RGB colours.
+///
+/// ```
+/// use microray::Vec3;
+/// let a = Vec3::new(1.0, 2.0, 3.0);
+/// assert_eq!(a.dot(Vec3::new(1.0, 0.0, 0.0)), 1.0);
+/// assert_eq!(a - a, Vec3::ZERO);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Vec3 {
+    /// x component (red, for colours).
+    pub x: f32,
+    /// y component (green, for colours).
+    pub y: f32,
+    /// z component (blue, for colours).
+    pub z: f32,
+}
+
+/// A linear RGB colour; channels are not clamped until a pixel is encoded.
+///
+/// ```
+/// use microray::Color;
+/// let grey: Color = Color::splat(0.5);
+/// assert_eq!(grey.mul_elem(Color::new(1.0, 0.0, 2.0)), Color::new(0.5, 0.0, 1.0));
+/// ```
+pub type Color = Vec3;
+
+impl Vec3 {
+    /// The zero vector (black).
+    pub const ZERO: Vec3 = Vec3::new(0.0, 0.0, 0.0);
+    /// All ones (white).
+    pub const ONE: Vec3 = Vec3::new(1.0, 1.0, 1.0);
+
+    /// A vector from its components.
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// assert_eq!(Vec3::new(1.0, 2.0, 3.0).y, 2.0);
+    /// ```
+    #[inline]
+    pub const fn new(x: f32, y: f32, z: f32) -> Self {
+        Vec3 { x, y, z }
+    }
+
+    /// A vector with all three components equal to `v`.
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// assert_eq!(Vec3::splat(2.0), Vec3::new(2.0, 2.0, 2.0));
+    /// ```
+    #[inline]
+    pub const fn splat(v: f32) -> Self {
+        Vec3 { x: v, y: v, z: v }
+    }
+
+    /// The dot product.
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// assert_eq!(Vec3::new(1.0, 2.0, 3.0).dot(Vec3::new(4.0, 5.0, 6.0)), 32.0);
+    /// ```
+    #[inline]
+    pub fn dot(self, o: Vec3) -> f32 {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// The cross product (right-handed).
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// let z = Vec3::new(1.0, 0.0, 0.0).cross(Vec3::new(0.0, 1.0, 0.0));
+    /// assert_eq!(z, Vec3::new(0.0, 0.0, 1.0));
+    /// ```
+    #[inline]
+    pub fn cross(self, o: Vec3) -> Vec3 {
+        Vec3::new(
+            self.y * o.z - self.z * o.y,
+            self.z * o.x - self.x * o.z,
+            self.x * o.y - self.y * o.x,
+        )
+    }
+
+    /// Component-wise product (how colours filter each other).
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// assert_eq!(Vec3::new(1.0, 2.0, 3.0).mul_elem(Vec3::splat(2.0)), Vec3::new(2.0, 4.0, 6.0));
+    /// ```
+    #[inline]
+    pub fn mul_elem(self, o: Vec3) -> Vec3 {
+        Vec3::new(self.x * o.x, self.y * o.y, self.z * o.z)
+    }
+
+    /// The Euclidean length.
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// assert_eq!(Vec3::new(3.0, 4.0, 0.0).length(), 5.0);
+    /// ```
+    #[inline]
+    pub fn length(self) -> f32 {
+        sqrt(self.dot(self))
+    }
+
+    /// The largest absolute component.
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// assert_eq!(Vec3::new(1.0, -7.0, 3.0).max_abs(), 7.0);
+    /// ```
+    #[inline]
+    pub fn max_abs(self) -> f32 {
+        let (x, y, z) = (libm::fabsf(self.x), libm::fabsf(self.y), libm::fabsf(self.z));
+        let m = if x > y { x } else { y };
+        if m > z {
+            m
+        } else {
+            z
+        }
+    }
+
+    /// Whether all components are finite.
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// assert!(Vec3::ONE.is_finite());
+    /// assert!(!Vec3::new(f32::NAN, 0.0, 0.0).is_finite());
+    /// ```
+    #[inline]
+    pub fn is_finite(self) -> bool {
+        self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
+    }
+
+    /// The unit vector in the same direction, for any finite non-zero input.
+    ///
+    /// Dividing by the largest component first keeps the squares from overflowing (a length of
+    /// 10³⁰) or underflowing (a length of 10⁻³⁰), where `v / |v|` would give inf or NaN.
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// let n = Vec3::new(0.0, 1e30, 0.0).normalized().unwrap();
+    /// assert_eq!(n, Vec3::new(0.0, 1.0, 0.0));
+    /// assert!(Vec3::new(1e-30, 0.0, 0.0).normalized().is_some());
+    /// assert!(Vec3::ZERO.normalized().is_none());
+    /// ```
+    pub fn normalized(self) -> Option<Vec3> {
+        let m = self.max_abs();
+        if !(m > 0.0) || !m.is_finite() {
+            return None;
+        }
+        let s = self / m;
+        Some(s / s.length())
+    }
+
+    /// `self / |self|` without the overflow guard of [`Vec3::normalized`]: for vectors whose
+    /// length is known to be moderate (ray directions built by the tracer itself).
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// assert_eq!(Vec3::new(0.0, 0.0, 2.0).normalize_fast(), Vec3::new(0.0, 0.0, 1.0));
+    /// ```
+    #[inline]
+    pub fn normalize_fast(self) -> Vec3 {
+        self / self.length()
+    }
+}
+
+impl Add for Vec3 {
+    type Output = Vec3;
+    #[inline]
+    fn add(self, o: Vec3) -> Vec3 {
+        Vec3::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+
+impl AddAssign for Vec3 {
+    #[inline]
+    fn add_assign(&mut self, o: Vec3) {
+        *self = *self + o;
+    }
+}
+
+impl Sub for Vec3 {
+    type Output = Vec3;
+    #[inline]
+    fn sub(self, o: Vec3) -> Vec3 {
+        Vec3::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+
+impl Neg for Vec3 {
+    type Output = Vec3;
+    #[inline]
+    fn neg(self) -> Vec3 {
+        Vec3::new(-self.x, -self.y, -self.z)
+    }
+}
+
+impl Mul<f32> for Vec3 {
+    type Output = Vec3;
+    #[inline]
+    fn mul(self, s: f32) -> Vec3 {
+        Vec3::new(self.x * s, self.y * s, self.z * s)
+    }
+}
+
+impl Div<f32> for Vec3 {
+    type Output = Vec3;
+    #[inline]
+    fn div(self, s: f32) -> Vec3 {
+        Vec3::new(self.x / s, self.y / s, self.z / s)
+    }
+}
+
+impl From<[f32; 3]> for Vec3 {
+    #[inline]
+    fn from(a: [f32; 3]) -> Self {
+        Vec3::new(a[0], a[1], a[2])
+    }
+}
+
+/// The correctly rounded square root.
+///
+/// On Cortex-M4F/M7 (`thumbv7em-none-eabihf`) this is the `vsqrt.f32` instruction; elsewhere
+/// `libm::sqrtf`. Both are correctly rounded (IEEE 754), so they return the same bits.
+///
+/// ```
+/// assert_eq!(microray::math::sqrt(2.0), 1.4142135);
+/// ```
+#[inline]
+pub fn sqrt(x: f32) -> f32 {
+    #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+    {
+        hw::vsqrt(x)
+    }
+    #[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+    {
+        libm::sqrtf(x)
+    }
+}
+
+#[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+#[allow(unsafe_code)]
+mod hw {
+    /// `vsqrt.f32`: libm's `sqrtf` is a ~200-instruction software routine on thumbv7em.
+    #[inline(always)]
+    pub fn vsqrt(x: f32) -> f32 {
+        let r: f32;
+        // SAFETY: `vsqrt.f32` reads one S register and writes one; it touches no memory, no
+        // stack and no flags, and the FPU is enabled whenever hard-float code runs at all.
+        unsafe {
+            core::arch::asm!("vsqrt.f32 {r}, {x}", r = out(sreg) r, x = in(sreg) x,
+                options(pure, nomem, nostack, preserves_flags));
+        }
+        r
+    }
+}
+
+/// `base` raised to `exp`, through `libm::powf`.
+///
+/// ```
+/// assert_eq!(microray::math::powf(2.0, 10.0), 1024.0);
+/// ```
+#[inline]
+pub fn powf(base: f32, exp: f32) -> f32 {
+    libm::powf(base, exp)
+}

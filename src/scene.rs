@@ -1,0 +1,411 @@
+//! Scenes: spheres with materials, lights and global settings in fixed-capacity containers.
+//!
+//! Every value is checked when it is added, so the render path never meets an invalid scene.
+
+use crate::error::Error;
+use crate::geometry::{Prepared, Ray, Sphere};
+use crate::math::{Color, Vec3};
+
+/// How a sphere reflects light.
+///
+/// ```
+/// use microray::{Color, Material};
+/// let red_plastic = Material {
+///     diffuse: Color::new(0.8, 0.1, 0.1),
+///     specular: Color::splat(0.5),
+///     shininess: 64.0,
+///     ..Material::default()
+/// };
+/// assert_eq!(red_plastic.mirror, Color::ZERO);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material {
+    /// Lambert (and ambient) reflectance `k_d`.
+    pub diffuse: Color,
+    /// Blinn–Phong highlight colour `k_s`.
+    pub specular: Color,
+    /// Blinn–Phong exponent `s` (> 0).
+    pub shininess: f32,
+    /// Mirror reflectance `k_m`.
+    pub mirror: Color,
+}
+
+impl Default for Material {
+    /// White diffuse, no highlight, no mirror, shininess 32 (the scene format's defaults).
+    fn default() -> Self {
+        Material {
+            diffuse: Color::ONE,
+            specular: Color::ZERO,
+            shininess: 32.0,
+            mirror: Color::ZERO,
+        }
+    }
+}
+
+/// A light source.
+///
+/// ```
+/// use microray::{Color, Light, Vec3};
+/// let sun = Light::Directional { direction: Vec3::new(1.0, -1.0, 0.0), intensity: Color::ONE };
+/// let bulb = Light::Point { position: Vec3::new(0.0, 5.0, 0.0), intensity: Color::splat(0.7) };
+/// assert_ne!(sun, bulb);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Light {
+    /// Light from a point; no fall-off with distance.
+    Point {
+        /// Where it is.
+        position: Vec3,
+        /// Its colour and strength `I`.
+        intensity: Color,
+    },
+    /// Parallel light from infinitely far away.
+    Directional {
+        /// Where the light travels (from the light towards the scene); any non-zero length.
+        direction: Vec3,
+        /// Its colour and strength `I`.
+        intensity: Color,
+    },
+}
+
+impl Light {
+    /// The light's intensity.
+    ///
+    /// ```
+    /// # use microray::{Color, Light, Vec3};
+    /// let l = Light::Point { position: Vec3::ZERO, intensity: Color::splat(0.5) };
+    /// assert_eq!(l.intensity(), Color::splat(0.5));
+    /// ```
+    pub fn intensity(&self) -> Color {
+        match *self {
+            Light::Point { intensity, .. } | Light::Directional { intensity, .. } => intensity,
+        }
+    }
+}
+
+/// Where a ray met the scene.
+///
+/// ```
+/// use microray::{Material, Ray, Scene, Sphere, Vec3};
+/// let mut scene: Scene<2, 0> = Scene::new();
+/// scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0), Material::default())?;
+/// let hit = scene.find_intersection(&Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0)), 0.0, 100.0)
+///     .unwrap();
+/// assert_eq!((hit.t, hit.sphere, hit.normal), (4.0, 0, Vec3::new(0.0, 0.0, 1.0)));
+/// # Ok::<(), microray::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    /// The ray parameter of the hit.
+    pub t: f32,
+    /// Index of the sphere hit, in the order spheres were added.
+    pub sphere: usize,
+    /// The hit point.
+    pub point: Vec3,
+    /// Unit normal, turned to face the ray's origin (negated when seen from inside).
+    pub normal: Vec3,
+    /// `point − centre` (the outward normal times the radius), kept because it is more accurate
+    /// than `point − centre` recomputed from a rounded point far from the origin.
+    pub offset: Vec3,
+}
+
+/// A scene of at most `S` spheres and `L` lights, with its global settings.
+///
+/// ```
+/// use microray::{Color, Light, Material, Scene, Sphere, Vec3};
+/// let mut scene: Scene<8, 2> = Scene::new();
+/// scene.set_ambient(Color::splat(0.1))?;
+/// scene.add_sphere(Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0), Material::default())?;
+/// scene.add_light(Light::Point { position: Vec3::new(3.0, 5.0, 4.0), intensity: Color::ONE })?;
+/// assert_eq!((scene.spheres().len(), scene.lights().len()), (1, 1));
+/// # Ok::<(), microray::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct Scene<const S: usize, const L: usize> {
+    spheres: heapless::Vec<Sphere, S>,
+    materials: heapless::Vec<Material, S>,
+    lights: heapless::Vec<Light, L>,
+    ambient: Color,
+    background: Color,
+    shadows: bool,
+    max_depth: u8,
+}
+
+impl<const S: usize, const L: usize> Default for Scene<S, L> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+fn check_color(c: Color) -> Result<Color, Error> {
+    if c.is_finite() && c.x >= 0.0 && c.y >= 0.0 && c.z >= 0.0 {
+        Ok(c)
+    } else {
+        Err(Error::InvalidColor)
+    }
+}
+
+fn check_point(p: Vec3) -> Result<Vec3, Error> {
+    if p.is_finite() {
+        Ok(p)
+    } else {
+        Err(Error::NotFinite)
+    }
+}
+
+impl<const S: usize, const L: usize> Scene<S, L> {
+    /// An empty scene: black background, no ambient light, shadows on, reflection depth 3.
+    ///
+    /// ```
+    /// # use microray::Scene;
+    /// let scene: Scene<4, 1> = Scene::new();
+    /// assert!(scene.shadows() && scene.max_depth() == 3);
+    /// ```
+    pub const fn new() -> Self {
+        Scene {
+            spheres: heapless::Vec::new(),
+            materials: heapless::Vec::new(),
+            lights: heapless::Vec::new(),
+            ambient: Color::ZERO,
+            background: Color::ZERO,
+            shadows: true,
+            max_depth: 3,
+        }
+    }
+
+    /// Adds a sphere and returns its index; rejects invalid values and overflow of `S`.
+    ///
+    /// ```
+    /// # use microray::{Error, Material, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<2, 0> = Scene::new();
+    /// assert_eq!(scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default()), Ok(0));
+    /// let flat = Sphere::new(Vec3::ZERO, 0.0);
+    /// assert_eq!(scene.add_sphere(flat, Material::default()), Err(Error::InvalidRadius));
+    /// ```
+    pub fn add_sphere(&mut self, sphere: Sphere, material: Material) -> Result<usize, Error> {
+        check_point(sphere.center)?;
+        if !(sphere.radius > 0.0 && sphere.radius.is_finite()) {
+            return Err(Error::InvalidRadius);
+        }
+        check_color(material.diffuse)?;
+        check_color(material.specular)?;
+        check_color(material.mirror)?;
+        if !(material.shininess > 0.0 && material.shininess.is_finite()) {
+            return Err(Error::InvalidShininess);
+        }
+        self.spheres
+            .push(sphere)
+            .map_err(|_| Error::TooManySpheres)?;
+        // Both vectors have capacity S and grow together, so this push cannot fail.
+        let _ = self.materials.push(material);
+        Ok(self.spheres.len() - 1)
+    }
+
+    /// Adds a light; a directional light's direction is stored normalised.
+    ///
+    /// ```
+    /// # use microray::{Color, Error, Light, Scene, Vec3};
+    /// let mut scene: Scene<1, 1> = Scene::new();
+    /// let dark = Light::Directional { direction: Vec3::ZERO, intensity: Color::ONE };
+    /// assert_eq!(scene.add_light(dark), Err(Error::ZeroDirection));
+    /// let sun = Light::Directional { direction: Vec3::new(0.0, -1e30, 0.0), intensity: Color::ONE };
+    /// scene.add_light(sun)?;
+    /// assert_eq!(scene.add_light(sun), Err(Error::TooManyLights));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn add_light(&mut self, light: Light) -> Result<(), Error> {
+        let light = match light {
+            Light::Point {
+                position,
+                intensity,
+            } => Light::Point {
+                position: check_point(position)?,
+                intensity: check_color(intensity)?,
+            },
+            Light::Directional {
+                direction,
+                intensity,
+            } => Light::Directional {
+                direction: check_point(direction)?
+                    .normalized()
+                    .ok_or(Error::ZeroDirection)?,
+                intensity: check_color(intensity)?,
+            },
+        };
+        self.lights.push(light).map_err(|_| Error::TooManyLights)
+    }
+
+    /// Sets the ambient light (multiplied by each sphere's diffuse colour).
+    ///
+    /// ```
+    /// # use microray::{Color, Scene};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.set_ambient(Color::splat(0.2))?;
+    /// assert!(scene.set_ambient(Color::splat(-1.0)).is_err());
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn set_ambient(&mut self, ambient: Color) -> Result<(), Error> {
+        self.ambient = check_color(ambient)?;
+        Ok(())
+    }
+
+    /// Sets the colour of rays that hit nothing.
+    ///
+    /// ```
+    /// # use microray::{Color, Scene};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.set_background(Color::new(0.1, 0.1, 0.3))?;
+    /// assert_eq!(scene.background(), Color::new(0.1, 0.1, 0.3));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn set_background(&mut self, background: Color) -> Result<(), Error> {
+        self.background = check_color(background)?;
+        Ok(())
+    }
+
+    /// Turns hard shadows on or off.
+    ///
+    /// ```
+    /// # use microray::Scene;
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.set_shadows(false);
+    /// assert!(!scene.shadows());
+    /// ```
+    pub fn set_shadows(&mut self, on: bool) {
+        self.shadows = on;
+    }
+
+    /// Sets how many mirror bounces a ray may take (0..=16; primary rays have depth 0).
+    ///
+    /// ```
+    /// # use microray::{Error, Scene};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.set_max_depth(0)?;
+    /// assert_eq!(scene.set_max_depth(17), Err(Error::InvalidMaxDepth));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn set_max_depth(&mut self, depth: u8) -> Result<(), Error> {
+        if depth > 16 {
+            return Err(Error::InvalidMaxDepth);
+        }
+        self.max_depth = depth;
+        Ok(())
+    }
+
+    /// The spheres, in the order they were added.
+    ///
+    /// ```
+    /// # use microray::Scene;
+    /// assert!(Scene::<3, 0>::new().spheres().is_empty());
+    /// ```
+    pub fn spheres(&self) -> &[Sphere] {
+        &self.spheres
+    }
+
+    /// The materials, index for index with [`Scene::spheres`].
+    ///
+    /// ```
+    /// # use microray::Scene;
+    /// assert!(Scene::<3, 0>::new().materials().is_empty());
+    /// ```
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    /// The lights (directional ones with unit direction).
+    ///
+    /// ```
+    /// # use microray::Scene;
+    /// assert!(Scene::<0, 3>::new().lights().is_empty());
+    /// ```
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    /// The ambient light.
+    ///
+    /// ```
+    /// # use microray::{Color, Scene};
+    /// assert_eq!(Scene::<1, 0>::new().ambient(), Color::ZERO);
+    /// ```
+    pub fn ambient(&self) -> Color {
+        self.ambient
+    }
+
+    /// The background colour.
+    ///
+    /// ```
+    /// # use microray::{Color, Scene};
+    /// assert_eq!(Scene::<1, 0>::new().background(), Color::ZERO);
+    /// ```
+    pub fn background(&self) -> Color {
+        self.background
+    }
+
+    /// Whether hard shadows are on.
+    ///
+    /// ```
+    /// # use microray::Scene;
+    /// assert!(Scene::<1, 0>::new().shadows());
+    /// ```
+    pub fn shadows(&self) -> bool {
+        self.shadows
+    }
+
+    /// The maximum mirror depth.
+    ///
+    /// ```
+    /// # use microray::Scene;
+    /// assert_eq!(Scene::<1, 0>::new().max_depth(), 3);
+    /// ```
+    pub fn max_depth(&self) -> u8 {
+        self.max_depth
+    }
+
+    /// The closest hit over all spheres with `t` in `[tmin, tmax]` (the lecture's
+    /// `find_intersection`).
+    ///
+    /// ```
+    /// # use microray::{Material, Ray, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<2, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0), Material::default())?;
+    /// scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, -9.0), 1.0), Material::default())?;
+    /// let ray = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0));
+    /// assert_eq!(scene.find_intersection(&ray, 0.0, f32::INFINITY).unwrap().sphere, 0);
+    /// assert_eq!(scene.find_intersection(&ray, 6.5, f32::INFINITY).unwrap().sphere, 1);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn find_intersection(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
+        let mut best: Option<(f32, usize, Prepared)> = None;
+        let mut tmax = tmax;
+        for (i, sphere) in self.spheres.iter().enumerate() {
+            let k = Prepared::new(ray.origin, sphere);
+            if let Some(t) = k.hit(ray.dir, tmin, tmax) {
+                tmax = t;
+                best = Some((t, i, k));
+            }
+        }
+        best.map(|(t, i, k)| make_hit(ray, t, i, k.f, k.r))
+    }
+}
+
+/// The hit record for parameter `t` on sphere `i`, given `f = origin − centre`.
+#[inline]
+pub(crate) fn make_hit(ray: &Ray, t: f32, i: usize, f: Vec3, r: f32) -> Hit {
+    // f + t·d is the hit relative to the centre: unlike `point − centre` it does not lose the
+    // low bits of a point far from the origin.
+    let offset = f + ray.dir * t;
+    let outward = offset / r;
+    let normal = if ray.dir.dot(outward) > 0.0 {
+        -outward
+    } else {
+        outward
+    };
+    Hit {
+        t,
+        sphere: i,
+        point: ray.at(t),
+        normal,
+        offset,
+    }
+}

@@ -1,0 +1,254 @@
+//! The shading model: ambient, Lambert diffuse and Blinn–Phong specular under point and
+//! directional lights, hard shadows and mirror reflection. All of it is in this file.
+//!
+//! At a hit `p` with facing normal `n`, seen along `d`:
+//! `colour = k_d ⊙ ambient + Σ I ⊙ (k_d (n·l) + k_s max(0, n·h)^s)` over the lights with
+//! `n·l > 0` that no sphere blocks, with `v = −d/|d|` and `h = normalize(v + l)`; a mirror adds
+//! `k_m ⊙` the colour seen along `d − 2(d·n)n`, up to the scene's `max_depth`.
+//!
+//! Shadow and mirror rays start on the surface of the sphere that was hit. That sphere is never
+//! intersected again; [`exit_root`] says analytically where such a ray leaves it (only when seen
+//! from inside), so there is no self-shadowing "acne" and no epsilon to tune.
+
+use crate::geometry::{exit_root, Prepared, Ray};
+use crate::math::{powf, Color, Vec3};
+use crate::scene::{make_hit, Hit, Light, Material, Scene};
+
+/// Just above zero: "t > 0" for closed-interval queries.
+pub(crate) const T_EPS: f32 = f32::MIN_POSITIVE;
+/// Just below one: a point light's shadow ray covers `0 < t < 1` of `light − p`.
+const T_BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// Where the light comes from at `hit`: the unit vector `l` towards it.
+#[inline]
+fn towards(light: &Light, p: Vec3) -> Vec3 {
+    match *light {
+        Light::Point { position, .. } => (position - p).normalize_fast(),
+        Light::Directional { direction, .. } => -direction,
+    }
+}
+
+/// Whether a sphere blocks `light` at `hit` (the model's hard shadow).
+///
+/// `from_light`, when given, holds [`Prepared::exact`] constants of a point light for every
+/// sphere: the shadow ray is then cast from the light towards `p`, sharing its origin with all
+/// other shadow rays of that light.
+///
+/// ```
+/// use microray::{shading::in_shadow, Color, Light, Material, Ray, Scene, Sphere, Vec3};
+/// let mut scene: Scene<2, 1> = Scene::new();
+/// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+/// scene.add_sphere(Sphere::new(Vec3::new(0.0, 3.0, 0.0), 1.0), Material::default())?;
+/// let sun = Light::Directional { direction: Vec3::new(0.0, -1.0, 0.0), intensity: Color::ONE };
+/// let down = Ray::new(Vec3::new(0.0, 1.5, 0.0), Vec3::new(0.0, -1.0, 0.0));
+/// let top = scene.find_intersection(&down, 0.0, 10.0).unwrap(); // top of the lower sphere
+/// assert!(in_shadow(&scene, &top, &sun, None)); // the upper sphere is in the way
+/// # Ok::<(), microray::Error>(())
+/// ```
+pub fn in_shadow<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    hit: &Hit,
+    light: &Light,
+    from_light: Option<&[Prepared]>,
+) -> bool {
+    let p = hit.point;
+    let spheres = scene.spheres();
+    match *light {
+        Light::Point { position, .. } => {
+            let to_light = position - p;
+            if exit_root(hit.offset, to_light).is_some_and(|t| t < 1.0) {
+                return true;
+            }
+            match from_light {
+                Some(consts) => {
+                    let d = p - position;
+                    consts.iter().enumerate().any(|(j, k)| {
+                        j != hit.sphere && k.hit(d, T_EPS, T_BELOW_ONE).is_some()
+                    })
+                }
+                None => spheres.iter().enumerate().any(|(j, s)| {
+                    j != hit.sphere
+                        && Prepared::new(p, s)
+                            .hit(to_light, T_EPS, T_BELOW_ONE)
+                            .is_some()
+                }),
+            }
+        }
+        Light::Directional { direction, .. } => {
+            let l = -direction;
+            exit_root(hit.offset, l).is_some()
+                || spheres.iter().enumerate().any(|(j, s)| {
+                    j != hit.sphere && Prepared::new(p, s).hit(l, T_EPS, f32::INFINITY).is_some()
+                })
+        }
+    }
+}
+
+/// The local colour at a hit seen along `dir`: ambient plus every light for which
+/// `blocked(light_index)` is false. `blocked` is asked only for lights with `n·l > 0`.
+///
+/// ```
+/// use microray::{shading::shade_local, Color, Light, Material, Ray, Scene, Sphere, Vec3};
+/// let mut scene: Scene<1, 1> = Scene::new();
+/// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+/// // a light straight above: the cosine law gives n·l = 1 at the top
+/// scene.add_light(Light::Directional { direction: Vec3::new(0.0, -1.0, 0.0), intensity: Color::ONE })?;
+/// let down = Ray::new(Vec3::new(0.0, 5.0, 0.0), Vec3::new(0.0, -1.0, 0.0));
+/// let hit = scene.find_intersection(&down, 0.0, 10.0).unwrap();
+/// assert_eq!(shade_local(&scene, &hit, down.dir, |_| false), Color::ONE);
+/// assert_eq!(shade_local(&scene, &hit, down.dir, |_| true), Color::ZERO);
+/// # Ok::<(), microray::Error>(())
+/// ```
+pub fn shade_local<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    hit: &Hit,
+    dir: Vec3,
+    mut blocked: impl FnMut(usize) -> bool,
+) -> Color {
+    let m: &Material = &scene.materials()[hit.sphere];
+    let n = hit.normal;
+    let mut colour = m.diffuse.mul_elem(scene.ambient());
+    let has_specular = m.specular != Color::ZERO;
+    let v = -dir.normalize_fast();
+    for (i, light) in scene.lights().iter().enumerate() {
+        let l = towards(light, hit.point);
+        let nl = n.dot(l);
+        if !(nl > 0.0) || blocked(i) {
+            continue;
+        }
+        let mut c = m.diffuse * nl;
+        if has_specular {
+            let nh = n.dot((v + l).normalize_fast());
+            if nh > 0.0 {
+                c += m.specular * powf(nh, m.shininess);
+            }
+        }
+        colour += light.intensity().mul_elem(c);
+    }
+    colour
+}
+
+/// The lecture's shading of a hit: the local colour with shadows tested against the scene (when
+/// the scene has them on). Mirrors are followed by [`trace`].
+///
+/// ```
+/// use microray::{shade, Color, Material, Ray, Scene, Sphere, Vec3};
+/// let mut scene: Scene<1, 0> = Scene::new();
+/// scene.set_ambient(Color::splat(0.5))?;
+/// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material { diffuse: Color::new(1.0, 0.0, 0.0), ..Material::default() })?;
+/// let ray = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
+/// let hit = scene.find_intersection(&ray, 0.0, 10.0).unwrap();
+/// assert_eq!(shade(&scene, &ray, &hit), Color::new(0.5, 0.0, 0.0));
+/// # Ok::<(), microray::Error>(())
+/// ```
+pub fn shade<const S: usize, const L: usize>(scene: &Scene<S, L>, ray: &Ray, hit: &Hit) -> Color {
+    shade_local(scene, hit, ray.dir, |i| {
+        scene.shadows() && in_shadow(scene, hit, &scene.lights()[i], None)
+    })
+}
+
+/// The mirror ray at a hit: from the hit point along `d − 2(d·n)n`.
+///
+/// ```
+/// use microray::{shading::reflect, Material, Ray, Scene, Sphere, Vec3};
+/// let mut scene: Scene<1, 0> = Scene::new();
+/// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+/// let ray = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
+/// let hit = scene.find_intersection(&ray, 0.0, 10.0).unwrap();
+/// assert_eq!(reflect(&ray, &hit).dir, Vec3::new(0.0, 0.0, 1.0)); // straight back
+/// # Ok::<(), microray::Error>(())
+/// ```
+#[inline]
+pub fn reflect(ray: &Ray, hit: &Hit) -> Ray {
+    let d = ray.dir;
+    Ray::new(hit.point, d - hit.normal * (2.0 * d.dot(hit.normal)))
+}
+
+/// The closest hit of a ray that starts on sphere `from` (a mirror ray): `from` itself is not
+/// intersected but left through [`exit_root`], so the ray cannot hit its own origin.
+///
+/// ```
+/// use microray::{shading::{find_from, reflect}, Material, Ray, Scene, Sphere, Vec3};
+/// let mut scene: Scene<2, 0> = Scene::new();
+/// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+/// scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, 4.0), 1.0), Material::default())?;
+/// let ray = Ray::new(Vec3::new(0.0, 0.0, 2.5), Vec3::new(0.0, 0.0, -1.0));
+/// let hit = scene.find_intersection(&ray, 0.0, 10.0).unwrap();
+/// let back = find_from(&scene, &reflect(&ray, &hit), hit.sphere, hit.offset).unwrap();
+/// assert_eq!(back.sphere, 1);
+/// # Ok::<(), microray::Error>(())
+/// ```
+pub fn find_from<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    ray: &Ray,
+    from: usize,
+    offset: Vec3,
+) -> Option<Hit> {
+    let spheres = scene.spheres();
+    let mut best: Option<(f32, usize, Vec3)> = None;
+    let mut tmax = f32::INFINITY;
+    if from < spheres.len() {
+        if let Some(t) = exit_root(offset, ray.dir) {
+            tmax = t;
+            best = Some((t, from, offset));
+        }
+    }
+    for (j, s) in spheres.iter().enumerate() {
+        if j == from {
+            continue;
+        }
+        let k = Prepared::new(ray.origin, s);
+        if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
+            tmax = t;
+            best = Some((t, j, k.f));
+        }
+    }
+    best.map(|(t, j, f)| make_hit(ray, t, j, f, spheres[j].radius))
+}
+
+/// The colour seen along a ray: the hit's local colour plus its mirror reflections, or the
+/// background when nothing is hit.
+///
+/// ```
+/// use microray::{trace, Color, Ray, Scene, Vec3};
+/// let mut scene: Scene<0, 0> = Scene::new();
+/// scene.set_background(Color::splat(0.25))?;
+/// assert_eq!(trace(&scene, &Ray::new(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0))), Color::splat(0.25));
+/// # Ok::<(), microray::Error>(())
+/// ```
+pub fn trace<const S: usize, const L: usize>(scene: &Scene<S, L>, ray: &Ray) -> Color {
+    let first = scene.find_intersection(ray, T_EPS, f32::INFINITY);
+    follow(scene, ray, first, |hit, ray| shade(scene, ray, hit))
+}
+
+/// Follows mirror bounces from a primary hit, shading each hit with `local`.
+///
+/// `colour = local₀ + k_m₀ ⊙ (local₁ + k_m₁ ⊙ (…))` is summed front to back with the product
+/// of the mirror colours so far, so the bounces need no recursion and no stack per depth.
+#[inline]
+pub(crate) fn follow<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    primary: &Ray,
+    first: Option<Hit>,
+    mut local: impl FnMut(&Hit, &Ray) -> Color,
+) -> Color {
+    let mut ray = *primary;
+    let mut hit = first;
+    let mut weight = Color::ONE;
+    let mut colour = Color::ZERO;
+    let mut depth = 0;
+    loop {
+        let Some(h) = hit else {
+            return colour + weight.mul_elem(scene.background());
+        };
+        colour += weight.mul_elem(local(&h, &ray));
+        let km = scene.materials()[h.sphere].mirror;
+        if km == Color::ZERO || depth >= scene.max_depth() {
+            return colour;
+        }
+        weight = weight.mul_elem(km);
+        ray = reflect(&ray, &h);
+        hit = find_from(scene, &ray, h.sphere, h.offset);
+        depth += 1;
+    }
+}
