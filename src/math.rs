@@ -252,16 +252,30 @@ pub fn sqrt(x: f32) -> f32 {
 #[allow(unsafe_code)]
 mod hw {
     /// `vsqrt.f32`: libm's `sqrtf` is a ~200-instruction software routine on thumbv7em.
+    ///
+    /// Rust exposes no `vfp2` target feature on thumbv7em-none-eabihf (its FPU is
+    /// single-precision only), so S registers cannot be asm operands: the value travels through
+    /// core registers and `s0` is saved and restored by hand instead of being declared clobbered.
     #[inline(always)]
     pub fn vsqrt(x: f32) -> f32 {
-        let r: f32;
-        // SAFETY: `vsqrt.f32` reads one S register and writes one; it touches no memory, no
-        // stack and no flags, and the FPU is enabled whenever hard-float code runs at all.
+        let bits: u32;
+        // SAFETY: the eabihf ABI guarantees an enabled FPU whenever this code runs. The block
+        // touches no memory and no stack, and leaves every register it borrows (`s0`, `tmp`)
+        // as it found it or as declared.
         unsafe {
-            core::arch::asm!("vsqrt.f32 {r}, {x}", r = out(sreg) r, x = in(sreg) x,
-                options(pure, nomem, nostack, preserves_flags));
+            core::arch::asm!(
+                "vmov {tmp}, s0",
+                "vmov s0, {x}",
+                "vsqrt.f32 s0, s0",
+                "vmov {r}, s0",
+                "vmov s0, {tmp}",
+                x = in(reg) x.to_bits(),
+                r = lateout(reg) bits,
+                tmp = out(reg) _,
+                options(pure, nomem, nostack, preserves_flags),
+            );
         }
-        r
+        f32::from_bits(bits)
     }
 }
 
