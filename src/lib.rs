@@ -33,6 +33,8 @@
 #![no_std]
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
+// `!(x > 0.0)` is deliberate throughout: NaN must fail every validity check.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 #[cfg(feature = "std")]
 extern crate std;

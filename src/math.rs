@@ -119,7 +119,11 @@ impl Vec3 {
     /// ```
     #[inline]
     pub fn max_abs(self) -> f32 {
-        let (x, y, z) = (libm::fabsf(self.x), libm::fabsf(self.y), libm::fabsf(self.z));
+        let (x, y, z) = (
+            libm::fabsf(self.x),
+            libm::fabsf(self.y),
+            libm::fabsf(self.z),
+        );
         let m = if x > y { x } else { y };
         if m > z {
             m

@@ -300,7 +300,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// assert_eq!(frame.render_rows(5, &mut band), Err(Error::BufferSize)); // only 1 row left
     /// # Ok::<(), microray::Error>(())
     /// ```
-    pub fn render_rows<C: From<Rgb888>>(&self, first_row: u32, buf: &mut [C]) -> Result<u32, Error> {
+    pub fn render_rows<C: From<Rgb888>>(
+        &self,
+        first_row: u32,
+        buf: &mut [C],
+    ) -> Result<u32, Error> {
         let w = self.width() as usize;
         let rows = buf.len() / w;
         if buf.len() % w != 0 || first_row as usize + rows > self.height() as usize {

@@ -62,9 +62,10 @@ pub fn in_shadow<const S: usize, const L: usize>(
             match from_light {
                 Some(consts) => {
                     let d = p - position;
-                    consts.iter().enumerate().any(|(j, k)| {
-                        j != hit.sphere && k.hit(d, T_EPS, T_BELOW_ONE).is_some()
-                    })
+                    consts
+                        .iter()
+                        .enumerate()
+                        .any(|(j, k)| j != hit.sphere && k.hit(d, T_EPS, T_BELOW_ONE).is_some())
                 }
                 None => spheres.iter().enumerate().any(|(j, s)| {
                     j != hit.sphere

@@ -1,0 +1,176 @@
+//! microray's desktop renderer: a TOML scene in, a PNG out.
+//!
+//! `cargo run --release --example render -- [SCENE.toml] [-o OUT.png] [--width N] [--height N]
+//! [--samples N] [--threads N]`
+//!
+//! Exit codes: 0 done, 1 an I/O failure, 2 invalid input. On any failure no PNG is written and
+//! an existing file at the output path is left untouched.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use clap::Parser;
+use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
+use microray::scene_file::{self, Desktop};
+use microray::{Frame, RenderOptions};
+
+const DEMO: &str = include_str!("scenes/demo.toml");
+
+/// Renders a microray scene file to a PNG.
+#[derive(Parser)]
+#[command(about)]
+struct Args {
+    /// The scene (TOML); the built-in demo scene when left out.
+    scene: Option<PathBuf>,
+    /// Where to write the PNG.
+    #[arg(short, long, default_value = "render.png")]
+    output: PathBuf,
+    /// Image width, overriding the scene's (1..=16384).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height, overriding the scene's (1..=16384).
+    #[arg(long)]
+    height: Option<u32>,
+    /// Samples per pixel along each axis, overriding the scene's (1..=16).
+    #[arg(long)]
+    samples: Option<u8>,
+    /// Threads rendering bands of rows in parallel (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+/// A failure and its exit code.
+struct Failure(u8, String);
+
+fn main() -> ExitCode {
+    match run(Args::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure(code, msg)) => {
+            eprintln!("error: {msg}");
+            ExitCode::from(code)
+        }
+    }
+}
+
+fn run(args: Args) -> Result<(), Failure> {
+    let file: Box<Desktop> = Box::new(
+        match &args.scene {
+            Some(path) => scene_file::load(path),
+            None => scene_file::parse(DEMO),
+        }
+        .map_err(|e| Failure(if e.io { 1 } else { 2 }, e.to_string()))?,
+    );
+    let width = args.width.unwrap_or(file.width);
+    let height = args.height.unwrap_or(file.height);
+    let camera = file
+        .view
+        .camera(width, height)
+        .map_err(|e| Failure(2, format!("--width {width} --height {height}: {e}")))?;
+    let options = RenderOptions {
+        samples: args.samples.unwrap_or(file.options.samples),
+        ..file.options
+    };
+    let threads = match args.threads {
+        Some(0) => return Err(Failure(2, "--threads: must be at least 1".into())),
+        Some(n) => n,
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    };
+
+    let start = Instant::now();
+    let frame = Box::new(
+        Frame::new(&file.scene, &camera, options)
+            .map_err(|e| Failure(2, format!("--samples: {e}")))?,
+    );
+    let pixels = render_parallel(&frame, threads);
+    let ms = start.elapsed().as_secs_f64() * 1e3;
+
+    write_png(&args.output, width, height, &pixels)?;
+    println!("wrote {} ({width}x{height})", args.output.display());
+    println!("render: {ms:.1} ms");
+    Ok(())
+}
+
+/// Renders bands of rows on `threads` threads through the library's band API, with a progress
+/// bar on a terminal once the render takes more than a second.
+fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize) -> Vec<Rgb888> {
+    let (w, h) = (frame.width() as usize, frame.height() as usize);
+    let mut pixels = vec![Rgb888::BLACK; w * h];
+    // Bands of a few rows, handed out in order: short enough to balance uneven rows.
+    let band_rows = 4;
+    let bands = Mutex::new(pixels.chunks_mut(w * band_rows).enumerate());
+    let done = AtomicU32::new(0);
+    let finished = AtomicU32::new(0);
+    let show = std::io::stderr().is_terminal();
+    std::thread::scope(|s| {
+        for _ in 0..threads.min(h.div_ceil(band_rows)) {
+            s.spawn(|| loop {
+                let next = bands.lock().unwrap_or_else(|e| e.into_inner()).next();
+                let Some((b, band)) = next else { break };
+                // Every band holds whole rows inside the image, so this cannot fail.
+                if let Ok(rows) = frame.render_rows((b * band_rows) as u32, band) {
+                    done.fetch_add(rows, Ordering::Relaxed);
+                }
+            });
+        }
+        if show {
+            s.spawn(|| progress(&done, &finished, h as u32));
+        }
+        // Joining the workers happens at scope end; tell the progress thread when they are done.
+        while done.load(Ordering::Relaxed) < h as u32 {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        finished.store(1, Ordering::Relaxed);
+    });
+    pixels
+}
+
+fn progress(done: &AtomicU32, finished: &AtomicU32, total: u32) {
+    let start = Instant::now();
+    let mut shown = false;
+    while finished.load(Ordering::Relaxed) == 0 {
+        std::thread::sleep(Duration::from_millis(100));
+        if start.elapsed() < Duration::from_secs(1) {
+            continue;
+        }
+        let d = done.load(Ordering::Relaxed);
+        let filled = (40 * d / total) as usize;
+        eprint!(
+            "\r[{}{}] {:3}%",
+            "#".repeat(filled),
+            " ".repeat(40 - filled),
+            100 * d / total
+        );
+        shown = true;
+    }
+    if shown {
+        eprint!("\r{}\r", " ".repeat(48));
+    }
+}
+
+/// Writes to a temporary file beside `out`, then renames it: a failed write leaves no PNG and
+/// never touches an existing file.
+fn write_png(out: &Path, w: u32, h: u32, pixels: &[Rgb888]) -> Result<(), Failure> {
+    let io = |e: &dyn std::fmt::Display| Failure(1, format!("{}: {e}", out.display()));
+    let mut pixmap = tiny_skia::Pixmap::new(w, h).ok_or_else(|| io(&"image too large"))?;
+    for (dst, p) in pixmap.pixels_mut().iter_mut().zip(pixels) {
+        *dst = tiny_skia::PremultipliedColorU8::from_rgba(p.r(), p.g(), p.b(), 255)
+            .expect("opaque colours are always valid");
+    }
+    let png = pixmap.encode_png().map_err(|e| io(&e))?;
+    let name = out.file_name().ok_or_else(|| io(&"not a file name"))?;
+    let tmp = out.with_file_name(format!(
+        ".{}.{}.tmp",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = std::fs::write(&tmp, png).and_then(|()| std::fs::rename(&tmp, out));
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(io(&e));
+    }
+    Ok(())
+}

@@ -1,0 +1,79 @@
+//! Helpers shared by the integration tests: rendering scene files and comparing images.
+#![allow(dead_code)]
+
+use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
+use microray::scene_file::{self, Desktop};
+use microray::Frame;
+
+/// An 8-bit RGB image.
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<[u8; 3]>,
+}
+
+/// Reads a PNG into RGB (it must be opaque).
+pub fn read_png(path: &str) -> Image {
+    let pixmap = tiny_skia::Pixmap::load_png(path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let pixels = pixmap
+        .pixels()
+        .iter()
+        .map(|p| {
+            assert_eq!(p.alpha(), 255, "{path}: expected an opaque image");
+            [p.red(), p.green(), p.blue()]
+        })
+        .collect();
+    Image {
+        width: pixmap.width(),
+        height: pixmap.height(),
+        pixels,
+    }
+}
+
+/// Renders a scene file the way the desktop renderer does (same parser, same band API).
+pub fn render_file(path: &str) -> Image {
+    let file: Box<Desktop> = Box::new(scene_file::load(path).unwrap_or_else(|e| panic!("{e}")));
+    render(&file)
+}
+
+pub fn render(file: &Desktop) -> Image {
+    let frame = Box::new(Frame::new(&file.scene, &file.camera, file.options).unwrap());
+    let (w, h) = (file.camera.width(), file.camera.height());
+    let mut buf = vec![Rgb888::BLACK; (w * h) as usize];
+    frame.render(&mut buf).unwrap();
+    Image {
+        width: w,
+        height: h,
+        pixels: buf.iter().map(|p| [p.r(), p.g(), p.b()]).collect(),
+    }
+}
+
+/// How many pixels differ by more than 1 and by more than 8 levels in some channel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Diff {
+    pub total: usize,
+    pub over1: usize,
+    pub over8: usize,
+    pub max: u8,
+}
+
+pub fn diff(a: &Image, b: &Image) -> Diff {
+    assert_eq!(
+        (a.width, a.height),
+        (b.width, b.height),
+        "image sizes differ"
+    );
+    let mut d = Diff {
+        total: a.pixels.len(),
+        over1: 0,
+        over8: 0,
+        max: 0,
+    };
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        let m = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
+        d.max = d.max.max(m);
+        d.over1 += (m > 1) as usize;
+        d.over8 += (m > 8) as usize;
+    }
+    d
+}
