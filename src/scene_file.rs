@@ -327,16 +327,24 @@ impl<'a> LineIndex<'a> {
 
     /// The table a line belongs to, as `camera` or `sphere[2]`, and the header's own key.
     fn table_of(&self, line: usize) -> Option<String> {
-        let header = (1..=line).rev().find(|&l| self.text_of(l).is_some_and(|t| t.starts_with('[')))?;
+        let header = (1..=line)
+            .rev()
+            .find(|&l| self.text_of(l).is_some_and(|t| t.starts_with('[')))?;
         let h = self.text_of(header)?;
-        let name = h.trim_start_matches('[').split(']').next()?.trim().to_string();
+        let name = h
+            .trim_start_matches('[')
+            .split(']')
+            .next()?
+            .trim()
+            .to_string();
         if !h.starts_with("[[") {
             return Some(name);
         }
         let index = (1..header)
             .filter(|&l| {
                 self.text_of(l).is_some_and(|t| {
-                    t.starts_with("[[") && t.trim_start_matches('[').split(']').next().map(str::trim) == Some(&name)
+                    t.starts_with("[[")
+                        && t.trim_start_matches('[').split(']').next().map(str::trim) == Some(&name)
                 })
             })
             .count();

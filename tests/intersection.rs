@@ -16,11 +16,27 @@ fn down_z() -> Ray {
 fn both_roots_through_the_interval() {
     let s = unit_at(-5.0);
     assert_eq!(ray_intersect(&down_z(), &s, 0.0, INF), Some(4.0));
-    assert_eq!(ray_intersect(&down_z(), &s, 4.0, INF), Some(4.0), "tmin is inclusive");
-    assert_eq!(ray_intersect(&down_z(), &s, 4.001, INF), Some(6.0), "far root when near is cut");
+    assert_eq!(
+        ray_intersect(&down_z(), &s, 4.0, INF),
+        Some(4.0),
+        "tmin is inclusive"
+    );
+    assert_eq!(
+        ray_intersect(&down_z(), &s, 4.001, INF),
+        Some(6.0),
+        "far root when near is cut"
+    );
     assert_eq!(ray_intersect(&down_z(), &s, 0.0, 6.0), Some(4.0));
-    assert_eq!(ray_intersect(&down_z(), &s, 4.5, 6.0), Some(6.0), "tmax is inclusive");
-    assert_eq!(ray_intersect(&down_z(), &s, 4.5, 5.9), None, "both roots outside");
+    assert_eq!(
+        ray_intersect(&down_z(), &s, 4.5, 6.0),
+        Some(6.0),
+        "tmax is inclusive"
+    );
+    assert_eq!(
+        ray_intersect(&down_z(), &s, 4.5, 5.9),
+        None,
+        "both roots outside"
+    );
     assert_eq!(ray_intersect(&down_z(), &s, 0.0, 3.9), None);
     assert_eq!(ray_intersect(&down_z(), &s, 6.1, INF), None);
 }
@@ -48,7 +64,11 @@ fn tangent_and_miss() {
 fn sphere_behind_the_origin_is_not_hit() {
     let s = unit_at(5.0);
     assert_eq!(ray_intersect(&down_z(), &s, 0.0, INF), None);
-    assert_eq!(ray_intersect(&down_z(), &s, -INF, INF), Some(-6.0), "but its roots exist");
+    assert_eq!(
+        ray_intersect(&down_z(), &s, -INF, INF),
+        Some(-6.0),
+        "but its roots exist"
+    );
 }
 
 #[test]
@@ -57,24 +77,44 @@ fn direction_need_not_be_unit() {
     for scale in [1e-3f32, 0.5, 2.0, 1e3] {
         let ray = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -scale));
         let t = ray_intersect(&ray, &s, 0.0, INF).unwrap();
-        assert!((t * scale - 4.0).abs() <= 4.0 * f32::EPSILON * 4.0, "scale {scale}: t = {t}");
+        assert!(
+            (t * scale - 4.0).abs() <= 4.0 * f32::EPSILON * 4.0,
+            "scale {scale}: t = {t}"
+        );
     }
 }
 
 #[test]
 fn nan_and_inf_are_never_hits() {
     let s = unit_at(-5.0);
-    for d in [Vec3::new(f32::NAN, 0.0, -1.0), Vec3::new(0.0, 0.0, -INF), Vec3::ZERO] {
-        assert_eq!(ray_intersect(&Ray::new(Vec3::ZERO, d), &s, 0.0, INF), None, "{d:?}");
+    for d in [
+        Vec3::new(f32::NAN, 0.0, -1.0),
+        Vec3::new(0.0, 0.0, -INF),
+        Vec3::ZERO,
+    ] {
+        assert_eq!(
+            ray_intersect(&Ray::new(Vec3::ZERO, d), &s, 0.0, INF),
+            None,
+            "{d:?}"
+        );
     }
 }
 
 #[test]
 fn find_intersection_takes_the_closest() {
     let mut scene: Scene<3, 0> = Scene::new();
-    scene.add_sphere(unit_at(-9.0), Material::default()).unwrap();
-    scene.add_sphere(unit_at(-5.0), Material::default()).unwrap();
-    scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, -7.0), 0.5), Material::default()).unwrap();
+    scene
+        .add_sphere(unit_at(-9.0), Material::default())
+        .unwrap();
+    scene
+        .add_sphere(unit_at(-5.0), Material::default())
+        .unwrap();
+    scene
+        .add_sphere(
+            Sphere::new(Vec3::new(0.0, 0.0, -7.0), 0.5),
+            Material::default(),
+        )
+        .unwrap();
     let hit = scene.find_intersection(&down_z(), 0.0, INF).unwrap();
     assert_eq!((hit.sphere, hit.t), (1, 4.0));
     assert_eq!(hit.point, Vec3::new(0.0, 0.0, -4.0));
@@ -87,7 +127,13 @@ fn find_intersection_takes_the_closest() {
 #[test]
 fn normal_faces_the_viewer_from_inside() {
     let mut scene: Scene<1, 0> = Scene::new();
-    scene.add_sphere(Sphere::new(Vec3::ZERO, 2.0), Material::default()).unwrap();
+    scene
+        .add_sphere(Sphere::new(Vec3::ZERO, 2.0), Material::default())
+        .unwrap();
     let hit = scene.find_intersection(&down_z(), 0.0, INF).unwrap();
-    assert_eq!(hit.normal, Vec3::new(0.0, 0.0, 1.0), "outward normal is (0,0,-1); seen from inside it flips");
+    assert_eq!(
+        hit.normal,
+        Vec3::new(0.0, 0.0, 1.0),
+        "outward normal is (0,0,-1); seen from inside it flips"
+    );
 }

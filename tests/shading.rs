@@ -8,16 +8,29 @@ use microray::{shade, trace, Color, Light, Material, Ray, Scene, Sphere, Vec3};
 /// from the normal at the point hit (0, 0, 1).
 fn lit_at(angle_deg: f32, material: Material) -> (Scene<2, 1>, Ray) {
     let mut scene: Scene<2, 1> = Scene::new();
-    scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), material).unwrap();
+    scene
+        .add_sphere(Sphere::new(Vec3::ZERO, 1.0), material)
+        .unwrap();
     let a = angle_deg.to_radians();
     // direction is where the light travels: towards -l
     let l = Vec3::new(a.sin(), 0.0, a.cos());
-    scene.add_light(Light::Directional { direction: -l, intensity: Color::ONE }).unwrap();
-    (scene, Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0)))
+    scene
+        .add_light(Light::Directional {
+            direction: -l,
+            intensity: Color::ONE,
+        })
+        .unwrap();
+    (
+        scene,
+        Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0)),
+    )
 }
 
 fn white() -> Material {
-    Material { diffuse: Color::ONE, ..Material::default() }
+    Material {
+        diffuse: Color::ONE,
+        ..Material::default()
+    }
 }
 
 #[test]
@@ -39,13 +52,21 @@ fn no_light_from_behind_the_surface() {
         scene.set_ambient(Color::splat(0.1)).unwrap();
         let hit = scene.find_intersection(&ray, 0.0, 10.0).unwrap();
         let c = shade(&scene, &ray, &hit);
-        assert!((c.x - 0.1).abs() < 1e-6, "{deg}°: only ambient expected, got {c:?}");
+        assert!(
+            (c.x - 0.1).abs() < 1e-6,
+            "{deg}°: only ambient expected, got {c:?}"
+        );
     }
 }
 
 #[test]
 fn highlight_peaks_at_the_mirror_configuration() {
-    let shiny = Material { diffuse: Color::ZERO, specular: Color::ONE, shininess: 50.0, ..Material::default() };
+    let shiny = Material {
+        diffuse: Color::ZERO,
+        specular: Color::ONE,
+        shininess: 50.0,
+        ..Material::default()
+    };
     // Light from straight ahead: h = n, the highlight is at full strength.
     let (scene, ray) = lit_at(0.0, shiny);
     let hit = scene.find_intersection(&ray, 0.0, 10.0).unwrap();
@@ -63,19 +84,36 @@ fn highlight_peaks_at_the_mirror_configuration() {
 #[test]
 fn shadows_block_point_and_directional_lights() {
     for light in [
-        Light::Point { position: Vec3::new(0.0, 10.0, 0.0), intensity: Color::ONE },
-        Light::Directional { direction: Vec3::new(0.0, -1.0, 0.0), intensity: Color::ONE },
+        Light::Point {
+            position: Vec3::new(0.0, 10.0, 0.0),
+            intensity: Color::ONE,
+        },
+        Light::Directional {
+            direction: Vec3::new(0.0, -1.0, 0.0),
+            intensity: Color::ONE,
+        },
     ] {
         let mut scene: Scene<2, 1> = Scene::new();
-        scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), white()).unwrap();
-        scene.add_sphere(Sphere::new(Vec3::new(0.0, 3.0, 0.0), 0.5), white()).unwrap();
+        scene
+            .add_sphere(Sphere::new(Vec3::ZERO, 1.0), white())
+            .unwrap();
+        scene
+            .add_sphere(Sphere::new(Vec3::new(0.0, 3.0, 0.0), 0.5), white())
+            .unwrap();
         scene.add_light(light).unwrap();
         // the top of the big sphere, seen from just above it
         let top = Ray::new(Vec3::new(0.0, 1.5, 0.0), Vec3::new(0.0, -1.0, 0.0));
         let h = scene.find_intersection(&top, 0.0, 10.0).unwrap();
         assert_eq!(h.sphere, 0);
-        assert_eq!(shade(&scene, &top, &h), Color::ZERO, "{light:?}: the small sphere shadows the top");
-        assert!(shade_local(&scene, &h, top.dir, |_| false).x > 0.9, "unblocked it is lit");
+        assert_eq!(
+            shade(&scene, &top, &h),
+            Color::ZERO,
+            "{light:?}: the small sphere shadows the top"
+        );
+        assert!(
+            shade_local(&scene, &h, top.dir, |_| false).x > 0.9,
+            "unblocked it is lit"
+        );
         scene.set_shadows(false);
         assert!(shade(&scene, &top, &h).x > 0.9, "{light:?}: shadows off");
     }
@@ -84,10 +122,19 @@ fn shadows_block_point_and_directional_lights() {
 #[test]
 fn a_point_light_between_the_spheres_is_not_blocked() {
     let mut scene: Scene<2, 1> = Scene::new();
-    scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), white()).unwrap();
-    scene.add_sphere(Sphere::new(Vec3::new(0.0, 4.0, 0.0), 0.5), white()).unwrap();
+    scene
+        .add_sphere(Sphere::new(Vec3::ZERO, 1.0), white())
+        .unwrap();
+    scene
+        .add_sphere(Sphere::new(Vec3::new(0.0, 4.0, 0.0), 0.5), white())
+        .unwrap();
     // the blocker is beyond the light: 0 < t < distance excludes it
-    scene.add_light(Light::Point { position: Vec3::new(0.0, 2.0, 0.0), intensity: Color::ONE }).unwrap();
+    scene
+        .add_light(Light::Point {
+            position: Vec3::new(0.0, 2.0, 0.0),
+            intensity: Color::ONE,
+        })
+        .unwrap();
     let top = Ray::new(Vec3::new(0.0, 1.5, 0.0), Vec3::new(0.0, -1.0, 0.0));
     let h = scene.find_intersection(&top, 0.0, 10.0).unwrap();
     assert!((shade(&scene, &top, &h).x - 1.0).abs() < 1e-6);
@@ -99,9 +146,17 @@ fn a_point_light_between_the_spheres_is_not_blocked() {
 fn reflection_depth_is_respected() {
     let mut scene: Scene<2, 0> = Scene::new();
     scene.set_ambient(Color::ONE).unwrap();
-    let m = Material { diffuse: Color::splat(0.1), mirror: Color::splat(0.5), ..Material::default() };
-    scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0), m).unwrap();
-    scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, 3.0), 1.0), m).unwrap();
+    let m = Material {
+        diffuse: Color::splat(0.1),
+        mirror: Color::splat(0.5),
+        ..Material::default()
+    };
+    scene
+        .add_sphere(Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0), m)
+        .unwrap();
+    scene
+        .add_sphere(Sphere::new(Vec3::new(0.0, 0.0, 3.0), 1.0), m)
+        .unwrap();
     let ray = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0));
     for depth in 0..=6u8 {
         scene.set_max_depth(depth).unwrap();
@@ -115,12 +170,21 @@ fn reflection_depth_is_respected() {
 fn a_mirror_ray_that_escapes_sees_the_background() {
     let mut scene: Scene<1, 0> = Scene::new();
     scene.set_background(Color::new(0.0, 0.0, 1.0)).unwrap();
-    let m = Material { diffuse: Color::ZERO, mirror: Color::ONE, ..Material::default() };
-    scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0), m).unwrap();
+    let m = Material {
+        diffuse: Color::ZERO,
+        mirror: Color::ONE,
+        ..Material::default()
+    };
+    scene
+        .add_sphere(Sphere::new(Vec3::new(0.0, 0.0, -3.0), 1.0), m)
+        .unwrap();
     let c = trace(&scene, &Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0)));
     assert_eq!(c, Color::new(0.0, 0.0, 1.0));
     scene.set_max_depth(0).unwrap();
-    assert_eq!(trace(&scene, &Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0))), Color::ZERO);
+    assert_eq!(
+        trace(&scene, &Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0))),
+        Color::ZERO
+    );
 }
 
 /// Inside a mirrored sphere a reflected ray must come back to the same sphere (its far side),
@@ -129,7 +193,11 @@ fn a_mirror_ray_that_escapes_sees_the_background() {
 fn mirror_inside_a_sphere_sees_its_far_wall() {
     let mut scene: Scene<1, 0> = Scene::new();
     scene.set_ambient(Color::ONE).unwrap();
-    let m = Material { diffuse: Color::splat(0.2), mirror: Color::splat(0.5), ..Material::default() };
+    let m = Material {
+        diffuse: Color::splat(0.2),
+        mirror: Color::splat(0.5),
+        ..Material::default()
+    };
     scene.add_sphere(Sphere::new(Vec3::ZERO, 2.0), m).unwrap();
     scene.set_max_depth(1).unwrap();
     let c = trace(&scene, &Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0)));
