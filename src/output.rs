@@ -158,7 +158,10 @@ mod tests {
                 let exact = v as f64 * max as f64 / 255.0;
                 let sum: u32 = (0..16).map(|b| dither_channel(v, max, b) as u32).sum();
                 let mean = sum as f64 / 16.0;
-                assert!((mean - exact).abs() <= 1.0 / 32.0 + 1e-9, "v={v} max={max} mean={mean}");
+                assert!(
+                    (mean - exact).abs() <= 1.0 / 32.0 + 1e-9,
+                    "v={v} max={max} mean={mean}"
+                );
                 // Each pixel is one of the two levels around the exact value.
                 for b in 0..16 {
                     let q = dither_channel(v, max, b) as f64;
@@ -182,8 +185,14 @@ mod tests {
     fn exact_levels_are_not_dithered() {
         // Only 0 and 255 are exact levels at both 5 and 6 bits; they must come out flat.
         for (x, y) in [(0, 0), (1, 2), (3, 3)] {
-            assert_eq!(dither_rgb565(Rgb888::new(255, 255, 255), x, y), Rgb565::new(31, 63, 31));
-            assert_eq!(dither_rgb565(Rgb888::new(0, 0, 0), x, y), Rgb565::new(0, 0, 0));
+            assert_eq!(
+                dither_rgb565(Rgb888::new(255, 255, 255), x, y),
+                Rgb565::new(31, 63, 31)
+            );
+            assert_eq!(
+                dither_rgb565(Rgb888::new(0, 0, 0), x, y),
+                Rgb565::new(0, 0, 0)
+            );
         }
     }
 
