@@ -93,9 +93,11 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn render_rows_dithered(&self, first_row: u32, buf: &mut [Rgb565]) -> Result<u32, Error> {
-        let w = self.width() as usize;
-        let rows = buf.len() / w;
-        if buf.len() % w != 0 || first_row as usize + rows > self.height() as usize {
+        let w = self.width() as usize; // ≥ 1 (Camera checks); checked_div links no panic
+        let (Some(rows), Some(0)) = (buf.len().checked_div(w), buf.len().checked_rem(w)) else {
+            return Err(Error::BufferSize);
+        };
+        if first_row as usize + rows > self.height() as usize {
             return Err(Error::BufferSize);
         }
         for (r, row) in buf.chunks_exact_mut(w).enumerate() {
