@@ -9,7 +9,9 @@ calls) from `objdump -d`, walks it from the render-path roots (`crc_rgb888` and
 `core::panicking::*`, `rust_begin_unwind` or the panic handler, or meets an indirect call
 (`blx rN`, `bx rN` other than `bx lr`, or a load into pc), which it could not follow.
 
-Prints key=value lines: render_path_functions, render_path_indirect_calls, render_path_panics,
+Prints key=value lines: render_path_functions, render_path_flash_bytes (everything the render
+path can execute: microray, libm, compiler-builtins, embedded-graphics glue and the firmware's
+CRC code), render_path_indirect_calls, render_path_panics,
 and panic_callers (every function in the ELF that calls a panic entry directly: these must be
 firmware set-up code, never microray's). Exit status 0 only when the render path is panic-free.
 """
@@ -29,13 +31,14 @@ def main():
     objdump = sys.argv[2] if len(sys.argv) > 2 else "llvm-objdump"
     text = subprocess.run([objdump, "-d", "--demangle", "--no-show-raw-insn", elf],
                           check=True, capture_output=True, text=True).stdout
-    calls, indirect, func = {}, {}, None
+    calls, indirect, func, start = {}, {}, None, {}
     for line in text.splitlines():
         m = HEAD.match(line)
         if m:
             name = m.group(2)
             if not name.startswith("$"):  # $t/$d are mapping symbols inside a function
                 func = name
+                start[func] = int(m.group(1), 16)
                 calls.setdefault(func, set())
                 indirect.setdefault(func, [])
             continue
@@ -62,7 +65,13 @@ def main():
     panics = sorted(f for f in seen if PANIC.search(f))
     ind = [(f, i) for f in sorted(seen) for i in indirect.get(f, [])]
     callers = sorted({f for f, cs in calls.items() for c in cs if PANIC.search(c) and not PANIC.search(f)})
+    # Function sizes from consecutive start addresses (literal pools included; the last function
+    # of the text has no successor and is left out, it is never on the render path).
+    addrs = sorted(start.values())
+    nxt = {a: b for a, b in zip(addrs, addrs[1:])}
+    size = {f: nxt.get(a, a) - a for f, a in start.items()}
     print(f"render_path_functions={len(seen)}")
+    print(f"render_path_flash_bytes={sum(size.get(f, 0) for f in seen)}")
     print(f"render_path_indirect_calls={len(ind)}")
     print(f"render_path_panics={len(panics)}")
     print("panic_callers=" + ";".join(callers))
