@@ -29,7 +29,11 @@ fn host_crc_matches_the_committed_firmware_crc() {
     let (crc, crc565, pixels) = frame_crcs();
     assert_eq!(pixels, scene::WIDTH * scene::HEIGHT);
     assert_eq!(crc, scene::EXPECTED_CRC32, "host crc32={crc:08x}");
-    assert_eq!(crc565, scene::EXPECTED_CRC32_RGB565, "host crc32_rgb565={crc565:08x}");
+    assert_eq!(
+        crc565,
+        scene::EXPECTED_CRC32_RGB565,
+        "host crc32_rgb565={crc565:08x}"
+    );
 }
 
 #[test]
@@ -59,11 +63,17 @@ fn firmware_in_qemu_prints_the_host_crc() {
     }
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/firmware/run.sh");
     for board in ["m4f", "m0"] {
-        let out = std::process::Command::new(script).arg(board).output().unwrap();
+        let out = std::process::Command::new(script)
+            .arg(board)
+            .output()
+            .unwrap();
         let stdout = String::from_utf8_lossy(&out.stdout);
         println!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
         assert!(out.status.success(), "run.sh {board} failed");
         let crc = format!("crc32={:08x}", scene::EXPECTED_CRC32);
-        assert!(stdout.lines().any(|l| l == crc), "run.sh {board} did not print {crc}");
+        assert!(
+            stdout.lines().any(|l| l == crc),
+            "run.sh {board} did not print {crc}"
+        );
     }
 }

@@ -73,7 +73,8 @@ fn spin(n: u32) {
 static mut SCENE: BenchScene = BenchScene::new();
 
 /// The strip buffer: one `Rgb565` row, the firmware's only pixel memory (in `.bss`).
-static mut STRIP: [Rgb565; WIDTH as usize * STRIP_ROWS] = [Rgb565::new(0, 0, 0); WIDTH as usize * STRIP_ROWS];
+static mut STRIP: [Rgb565; WIDTH as usize * STRIP_ROWS] =
+    [Rgb565::new(0, 0, 0); WIDTH as usize * STRIP_ROWS];
 
 /// The pattern painted over the free stack.
 const PAINT: u32 = 0xC0DE_CAFE;
@@ -118,7 +119,11 @@ fn fail(what: &str, e: microray::Error) -> ! {
 }
 
 fn exit(ok: bool) -> ! {
-    debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
+    debug::exit(if ok {
+        debug::EXIT_SUCCESS
+    } else {
+        debug::EXIT_FAILURE
+    });
     #[allow(clippy::empty_loop)]
     loop {}
 }
@@ -136,7 +141,8 @@ fn setup() -> &'static Frame<'static, SPHERES, LIGHTS> {
         Err(e) => fail("camera", e),
     };
     match Frame::new(scene, camera, scene::options()) {
-        Ok(f) => cortex_m::singleton!(: Frame<'static, SPHERES, LIGHTS> = f).unwrap_or_else(|| exit(false)),
+        Ok(f) => cortex_m::singleton!(: Frame<'static, SPHERES, LIGHTS> = f)
+            .unwrap_or_else(|| exit(false)),
         Err(e) => fail("frame", e),
     }
 }
@@ -187,11 +193,17 @@ fn main() -> ! {
     hprintln!("crc32_rgb565_expected={:08x}", scene::EXPECTED_CRC32_RGB565);
     hprintln!("systick_ticks_per_2M_instructions={}", calib);
     hprintln!("instructions={}", instructions);
-    hprintln!("instructions_per_pixel={}.{}", per_pixel_x10 / 10, per_pixel_x10 % 10);
+    hprintln!(
+        "instructions_per_pixel={}.{}",
+        per_pixel_x10 / 10,
+        per_pixel_x10 % 10
+    );
     hprintln!("strip_instructions={}", to_instr(t2 - t1));
     hprintln!("stack_bytes={}", setup_stack.max(render_stack));
     hprintln!("render_stack_bytes={}", render_stack);
-    let ok = crc == scene::EXPECTED_CRC32 && crc565 == scene::EXPECTED_CRC32_RGB565 && pixels == WIDTH * HEIGHT;
+    let ok = crc == scene::EXPECTED_CRC32
+        && crc565 == scene::EXPECTED_CRC32_RGB565
+        && pixels == WIDTH * HEIGHT;
     hprintln!("crc_ok={}", if ok { 1 } else { 0 });
     exit(ok)
 }

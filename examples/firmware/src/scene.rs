@@ -45,12 +45,27 @@ pub fn build_scene(scene: &mut BenchScene) -> Result<(), Error> {
     scene.set_ambient(Color::splat(0.08))?;
     scene.set_background(Color::new(0.10, 0.14, 0.25))?;
     scene.set_shadows(true);
-    let ground = Material { diffuse: Color::new(0.55, 0.55, 0.5), ..Material::default() };
+    let ground = Material {
+        diffuse: Color::new(0.55, 0.55, 0.5),
+        ..Material::default()
+    };
     scene.add_sphere(Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0), ground)?;
-    scene.add_sphere(Sphere::new(Vec3::new(-1.6, 0.7, 0.0), 0.7), plastic(0.8, 0.15, 0.1, 32.0))?;
-    scene.add_sphere(Sphere::new(Vec3::new(0.1, 1.0, -1.2), 1.0), plastic(0.15, 0.7, 0.2, 64.0))?;
-    scene.add_sphere(Sphere::new(Vec3::new(1.5, 0.5, 0.6), 0.5), plastic(0.15, 0.3, 0.85, 16.0))?;
-    scene.add_sphere(Sphere::new(Vec3::new(0.3, 0.3, 1.4), 0.3), plastic(0.9, 0.8, 0.1, 8.0))?;
+    scene.add_sphere(
+        Sphere::new(Vec3::new(-1.6, 0.7, 0.0), 0.7),
+        plastic(0.8, 0.15, 0.1, 32.0),
+    )?;
+    scene.add_sphere(
+        Sphere::new(Vec3::new(0.1, 1.0, -1.2), 1.0),
+        plastic(0.15, 0.7, 0.2, 64.0),
+    )?;
+    scene.add_sphere(
+        Sphere::new(Vec3::new(1.5, 0.5, 0.6), 0.5),
+        plastic(0.15, 0.3, 0.85, 16.0),
+    )?;
+    scene.add_sphere(
+        Sphere::new(Vec3::new(0.3, 0.3, 1.4), 0.3),
+        plastic(0.9, 0.8, 0.1, 8.0),
+    )?;
     scene.add_light(Light::Point {
         position: Vec3::new(4.0, 6.0, 5.0),
         intensity: Color::splat(0.75),
@@ -64,7 +79,14 @@ pub fn build_scene(scene: &mut BenchScene) -> Result<(), Error> {
 /// The benchmark camera: `WIDTH`×`HEIGHT`, 45° vertical field of view.
 pub fn camera() -> Result<Camera, Error> {
     let eye = Vec3::new(0.0, 1.6, 6.0);
-    Camera::new(eye, Vec3::new(0.0, 0.7, 0.0), Vec3::new(0.0, 1.0, 0.0), 45.0, WIDTH, HEIGHT)
+    Camera::new(
+        eye,
+        Vec3::new(0.0, 0.7, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        45.0,
+        WIDTH,
+        HEIGHT,
+    )
 }
 
 /// One sample per pixel, linear encoding.
@@ -85,7 +107,11 @@ const CRC_TABLE: [u32; 256] = {
         let mut c = n as u32;
         let mut k = 0;
         while k < 8 {
-            c = if c & 1 != 0 { 0xEDB8_8320 ^ (c >> 1) } else { c >> 1 };
+            c = if c & 1 != 0 {
+                0xEDB8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
             k += 1;
         }
         table[n] = c;
@@ -134,7 +160,10 @@ pub struct CrcDisplay {
 impl CrcDisplay {
     /// An empty checksum display.
     pub const fn new() -> Self {
-        CrcDisplay { crc: Crc32::new(), pixels: 0 }
+        CrcDisplay {
+            crc: Crc32::new(),
+            pixels: 0,
+        }
     }
 
     #[inline]
@@ -182,7 +211,12 @@ impl DrawTarget for CrcDisplay {
             }
             Ok(())
         } else {
-            self.draw_iter(area.points().zip(colors).filter(|(p, _)| visible.contains(*p)).map(|(p, c)| Pixel(p, c)))
+            self.draw_iter(
+                area.points()
+                    .zip(colors)
+                    .filter(|(p, _)| visible.contains(*p))
+                    .map(|(p, c)| Pixel(p, c)),
+            )
         }
     }
 }
@@ -210,7 +244,10 @@ pub fn crc_rgb888(frame: &Frame<'_, SPHERES, LIGHTS>) -> (u32, u32) {
 /// folds each strip with [`fold_rgb565`]; returns the CRC-32, or the error of a wrong-sized strip.
 /// Never inlined: the other root of the render path for the panic check.
 #[inline(never)]
-pub fn crc_rgb565_dithered(frame: &Frame<'_, SPHERES, LIGHTS>, strip: &mut [Rgb565]) -> Result<u32, Error> {
+pub fn crc_rgb565_dithered(
+    frame: &Frame<'_, SPHERES, LIGHTS>,
+    strip: &mut [Rgb565],
+) -> Result<u32, Error> {
     if strip.is_empty() {
         return Err(Error::BufferSize); // zero rows per strip would never finish
     }
