@@ -197,10 +197,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 best = Some((t, i));
             }
         }
-        best.map(|(t, i)| {
-            let k = &self.eye[i];
-            make_hit(ray, t, i, k.f, k.r)
-        })
+        // `get`, not `[i]`: the compiler cannot prove i in bounds and would link a panic.
+        let (t, i) = best?;
+        let k = self.eye.get(i)?;
+        Some(make_hit(ray, t, i, k.f, k.r))
     }
 
     /// The linear colour seen along a primary ray from the eye.
@@ -219,16 +219,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let first = self.primary_hit(ray);
         follow(scene, ray, first, |hit, ray| {
             shade_local(scene, hit, ray.dir, |i| {
+                // `get`, not `[i]`: i < lights().len() ≤ L always, but the compiler cannot prove
+                // it and would link a bounds-check panic into the render path.
                 scene.shadows()
-                    && in_shadow(
-                        scene,
-                        hit,
-                        &scene.lights()[i],
-                        match scene.lights()[i] {
-                            Light::Point { .. } => Some(&self.lights[i]),
+                    && scene.lights().get(i).is_some_and(|light| {
+                        let consts = match light {
+                            Light::Point { .. } => self.lights.get(i).map(|v| &v[..]),
                             Light::Directional { .. } => None,
-                        },
-                    )
+                        };
+                        in_shadow(scene, hit, light, consts)
+                    })
             })
         })
     }
