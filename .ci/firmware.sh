@@ -26,5 +26,5 @@ for board in m4f m0; do
   examples/firmware/run.sh "$board"
 done
 
-echo "== cargo test --test firmware -- --include-ignored"
-cargo test --test firmware -- --include-ignored
+echo "== cargo test --release --test firmware -- --include-ignored"
+cargo test --release --test firmware -- --include-ignored
