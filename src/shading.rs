@@ -248,7 +248,10 @@ pub(crate) fn follow<const S: usize, const L: usize>(
             return colour + weight.mul_elem(scene.background());
         };
         colour += weight.mul_elem(local(&h, &ray));
-        let km = scene.materials().get(h.sphere).map_or(Color::ZERO, |m| m.mirror);
+        let km = scene
+            .materials()
+            .get(h.sphere)
+            .map_or(Color::ZERO, |m| m.mirror);
         if km == Color::ZERO || depth >= scene.max_depth() {
             return colour;
         }
