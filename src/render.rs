@@ -199,7 +199,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         best.map(|(t, i)| {
             let k = &self.eye[i];
-            make_hit(ray, t, i, k.f, k.r)
+            make_hit(ray, t, i, k.f, &self.scene.spheres()[i])
         })
     }
 

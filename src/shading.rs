@@ -18,12 +18,25 @@ use crate::scene::{make_hit, Hit, Light, Material, Scene};
 pub(crate) const T_EPS: f32 = f32::MIN_POSITIVE;
 /// Just below one: a point light's shadow ray covers `0 < t < 1` of `light − p`.
 const T_BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
+/// Point-light constants are used for spheres with `|light − m|² − r² ≤ NEAR_LIGHT r²`
+/// (within 32 radii of the light), see [`in_shadow`].
+const NEAR_LIGHT: f32 = 1023.0;
 
 /// Where the light comes from at `hit`: the unit vector `l` towards it.
 #[inline]
 fn towards(light: &Light, p: Vec3) -> Vec3 {
     match *light {
-        Light::Point { position, .. } => (position - p).normalize_fast(),
+        Light::Point { position, .. } => {
+            let v = position - p;
+            let ll = v.dot(v);
+            // |v|² overflows beyond ~10¹⁹ and underflows below ~10⁻¹⁹: then the guarded form
+            // (and no light at all from a light exactly at p).
+            if ll.is_finite() && ll >= f32::MIN_POSITIVE {
+                v / crate::math::sqrt(ll)
+            } else {
+                v.normalized().unwrap_or(Vec3::ZERO)
+            }
+        }
         Light::Directional { direction, .. } => -direction,
     }
 }
@@ -32,7 +45,11 @@ fn towards(light: &Light, p: Vec3) -> Vec3 {
 ///
 /// `from_light`, when given, holds [`Prepared::exact`] constants of a point light for every
 /// sphere: the shadow ray is then cast from the light towards `p`, sharing its origin with all
-/// other shadow rays of that light.
+/// other shadow rays of that light. Only for spheres within 32 radii of the light, though: the
+/// direction `p − light` is rounded, so the ray cast from the light passes `p` (and any sphere
+/// near it) off by up to ~ε |light − p|, which is nothing next to such a sphere but would move
+/// the shadow of a sphere of radius 1 by a whole unit for a light 10⁷ away. Spheres farther from
+/// the light are tested from `p`, where the error is at the light's end.
 ///
 /// ```
 /// use microray::{shading::in_shadow, Color, Light, Material, Ray, Scene, Sphere, Vec3};
@@ -62,10 +79,16 @@ pub fn in_shadow<const S: usize, const L: usize>(
             match from_light {
                 Some(consts) => {
                     let d = p - position;
-                    consts
-                        .iter()
-                        .enumerate()
-                        .any(|(j, k)| j != hit.sphere && k.hit(d, T_EPS, T_BELOW_ONE).is_some())
+                    consts.iter().zip(spheres).enumerate().any(|(j, (k, s))| {
+                        j != hit.sphere
+                            && if k.c <= NEAR_LIGHT * (k.r * k.r) {
+                                k.hit(d, T_EPS, T_BELOW_ONE).is_some()
+                            } else {
+                                Prepared::new(p, s)
+                                    .hit(to_light, T_EPS, T_BELOW_ONE)
+                                    .is_some()
+                            }
+                    })
                 }
                 None => spheres.iter().enumerate().any(|(j, s)| {
                     j != hit.sphere
@@ -204,7 +227,7 @@ pub fn find_from<const S: usize, const L: usize>(
             best = Some((t, j, k.f));
         }
     }
-    best.map(|(t, j, f)| make_hit(ray, t, j, f, spheres[j].radius))
+    best.map(|(t, j, f)| make_hit(ray, t, j, f, &spheres[j]))
 }
 
 /// The colour seen along a ray: the hit's local colour plus its mirror reflections, or the

@@ -131,3 +131,12 @@ pub fn agreement(file: &Desktop, got: &Image) -> Agreement {
     }
     a
 }
+
+/// Writes an image as a PNG (for looking at a failing case).
+pub fn write_png(img: &Image, path: &str) {
+    let mut pm = tiny_skia::Pixmap::new(img.width, img.height).unwrap();
+    for (dst, p) in pm.pixels_mut().iter_mut().zip(&img.pixels) {
+        *dst = tiny_skia::PremultipliedColorU8::from_rgba(p[0], p[1], p[2], 255).unwrap();
+    }
+    pm.save_png(path).unwrap();
+}
