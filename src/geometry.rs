@@ -136,6 +136,14 @@ pub struct Prepared {
     pub r: f32,
 }
 
+/// f32 `c = ff − rr` is kept only when `|c| > CANCEL (ff + rr)`, that is when the origin is more
+/// than √3 radii from the centre (or inside, less than 1/√3). The f32 error of c is about
+/// 2⁻²⁴ (ff + rr) from the squares plus as much again from rounding `f`, and the near root is
+/// proportional to c, so `(ff + rr) / |c| ≤ 2` keeps that root within a few ulp. An earlier
+/// threshold of 2⁻¹¹ let c lose 10 bits, and a mirror ray leaving a sphere that rests on a
+/// ground sphere of radius 1000 met the ground 700 ulp off, enough to flip its shadow.
+const CANCEL: f32 = 0.5;
+
 /// `c` in f64 from exact differences: for f32 inputs `x − y` and `x²` lose nothing in f64
 /// (except at extreme exponent gaps), so only the final sum rounds.
 fn c_f64(o: Vec3, m: Vec3, r: f32) -> f64 {
@@ -163,9 +171,9 @@ impl Prepared {
         }
     }
 
-    /// The constants for one ray from `origin`: `c` in f32, redone in f64 only where the f32
-    /// subtraction has cancelled more than ~10 bits (an origin close to the surface of a sphere
-    /// that is large for its distance) or overflowed.
+    /// The constants for one ray from `origin`: `c` in f32, redone in f64 where the f32
+    /// subtraction cancels more than a bit (an origin within 0.73 radii of the surface) or
+    /// overflows.
     ///
     /// ```
     /// # use microray::{Prepared, Sphere, Vec3};
@@ -178,14 +186,70 @@ impl Prepared {
         let r = sphere.radius;
         let (ff, rr) = (f.dot(f), r * r);
         let c = ff - rr;
-        // 2⁻¹¹ (ff + rr) bounds |c| from below when at least ~10 bits survive the subtraction;
-        // the f32 error of c is about 2⁻²³ (ff + rr).
-        let c = if libm::fabsf(c) > (ff + rr) * (1.0 / 2048.0) && c.is_finite() {
+        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && c.is_finite() {
             c
         } else {
             c_f64(origin, sphere.center, r) as f32
         };
         Prepared { f, c, r }
+    }
+
+    /// The constants for a ray that starts on the surface of the sphere centred at `base`, at
+    /// `base + offset` (a [`Hit`](crate::Hit)'s centre and offset): `f = (base − m) + offset`.
+    ///
+    /// The hit point itself, rounded to f32, is off by half an ulp of its coordinates: 5·10⁻⁴
+    /// for a scene 10⁴ from the origin, a large part of a unit sphere's shading. Centres near
+    /// each other subtract exactly, and the offset is small and accurate, so `f` is good to an
+    /// ulp of `|f|` wherever the scene is. `c` falls back to f64 as in [`Prepared::new`].
+    ///
+    /// ```
+    /// # use microray::{Prepared, Sphere, Vec3};
+    /// let base = Vec3::new(1e4, 1e4, 1e4);
+    /// let offset = Vec3::new(0.0, 1.0, 1e-4); // a point on a unit sphere at `base`
+    /// let other = Sphere::new(Vec3::new(1e4, 1e4 + 3.0, 1e4), 1.0);
+    /// let k = Prepared::from_surface(base, offset, &other);
+    /// assert_eq!(k.f, Vec3::new(0.0, -2.0, 1e-4)); // (base + offset) − m would say z = 0
+    /// ```
+    #[inline]
+    pub fn from_surface(base: Vec3, offset: Vec3, sphere: &Sphere) -> Self {
+        let f = (base - sphere.center) + offset;
+        let r = sphere.radius;
+        let (ff, rr) = (f.dot(f), r * r);
+        let c = ff - rr;
+        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && c.is_finite() {
+            c
+        } else {
+            let g = |b: f32, m: f32, o: f32| (b as f64 - m as f64) + o as f64;
+            let m = sphere.center;
+            let (x, y, z) = (
+                g(base.x, m.x, offset.x),
+                g(base.y, m.y, offset.y),
+                g(base.z, m.z, offset.z),
+            );
+            (x * x + y * y + z * z - r as f64 * r as f64) as f32
+        };
+        Prepared { f, c, r }
+    }
+
+    /// The constants for a ray leaving a hit point `point = base + offset` on the surface of the
+    /// sphere centred at `base`: [`Prepared::from_surface`] when the offset (the radius) is
+    /// smaller than the point's coordinates, which is then the more accurate, else
+    /// [`Prepared::new`] from the point (a huge ground sphere near the origin).
+    ///
+    /// ```
+    /// # use microray::{Prepared, Sphere, Vec3};
+    /// let other = Sphere::new(Vec3::new(0.0, 3.0, 0.0), 1.0);
+    /// let (base, offset) = (Vec3::new(0.0, -1e6, 0.0), Vec3::new(0.0, 1e6, 0.0));
+    /// let k = Prepared::leaving(Vec3::ZERO, base, offset, &other);
+    /// assert_eq!(k, Prepared::new(Vec3::ZERO, &other));
+    /// ```
+    #[inline]
+    pub fn leaving(point: Vec3, base: Vec3, offset: Vec3, sphere: &Sphere) -> Self {
+        if offset.max_abs() <= point.max_abs() {
+            Prepared::from_surface(base, offset, sphere)
+        } else {
+            Prepared::new(point, sphere)
+        }
     }
 
     /// The closest root in `[tmin, tmax]` of the ray from this origin along `d` (any length).
@@ -270,7 +334,8 @@ fn roots_f64(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
 }
 
 /// Where a ray that hit `sphere` at parameter `t` meets it: the point and the point's offset from
-/// the centre (the outward normal times the radius). `f` is `ray.origin − sphere.center` in f32.
+/// the centre (the outward normal times the radius). `f` is the ray origin minus the centre, as
+/// [`Prepared`] has it (for rays leaving a surface more accurate than `ray.origin − centre`).
 ///
 /// `f + t·d` loses the offset's low bits when the sphere is small for its distance (|f| ≫ r):
 /// with `t` right to half an ulp, a sphere of radius 10⁻⁴ seen from 10 units would still get
@@ -298,16 +363,15 @@ pub fn hit_point(ray: &Ray, t: f32, f: Vec3, sphere: &Sphere) -> (Vec3, Vec3) {
     if ff <= 256.0 * (r * r) {
         return (ray.at(t), f + d * t);
     }
-    hit_point_f64(ray, t, sphere).unwrap_or((ray.at(t), f + d * t))
+    hit_point_f64(ray.dir, t, f, sphere).unwrap_or((ray.at(t), f + d * t))
 }
 
 #[cold]
-fn hit_point_f64(ray: &Ray, t: f32, sphere: &Sphere) -> Option<(Vec3, Vec3)> {
+fn hit_point_f64(d: Vec3, t: f32, f: Vec3, sphere: &Sphere) -> Option<(Vec3, Vec3)> {
     let v = |p: Vec3| [p.x as f64, p.y as f64, p.z as f64];
     let dot = |u: [f64; 3], w: [f64; 3]| u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
-    let (o, d, m) = (v(ray.origin), v(ray.dir), v(sphere.center));
+    let (f, d, m) = (v(f), v(d), v(sphere.center));
     let r = sphere.radius as f64;
-    let f = [o[0] - m[0], o[1] - m[1], o[2] - m[2]];
     let a = dot(d, d);
     let k = dot(f, d) / a;
     let l = [f[0] - k * d[0], f[1] - k * d[1], f[2] - k * d[2]];

@@ -68,33 +68,39 @@ pub fn in_shadow<const S: usize, const L: usize>(
     light: &Light,
     from_light: Option<&[Prepared]>,
 ) -> bool {
-    let p = hit.point;
     let spheres = scene.spheres();
+    // Rays leave the hit at `base + hit.offset`: differences to other points are taken from the
+    // centre `base` where that is more accurate than the rounded point (see `Prepared::leaving`),
+    // which keeps them exact however far from the origin the scene is.
+    let Some(base) = spheres.get(hit.sphere).map(|s| s.center) else {
+        return false;
+    };
+    let p = hit.point;
+    let leave = |s| Prepared::leaving(p, base, hit.offset, s);
     match *light {
         Light::Point { position, .. } => {
-            let to_light = position - p;
+            let to_light = if hit.offset.max_abs() <= p.max_abs() {
+                (position - base) - hit.offset
+            } else {
+                position - p
+            };
             if exit_root(hit.offset, to_light).is_some_and(|t| t < 1.0) {
                 return true;
             }
             match from_light {
                 Some(consts) => {
-                    let d = p - position;
+                    let d = -to_light;
                     consts.iter().zip(spheres).enumerate().any(|(j, (k, s))| {
                         j != hit.sphere
                             && if k.c <= NEAR_LIGHT * (k.r * k.r) {
                                 k.hit(d, T_EPS, T_BELOW_ONE).is_some()
                             } else {
-                                Prepared::new(p, s)
-                                    .hit(to_light, T_EPS, T_BELOW_ONE)
-                                    .is_some()
+                                leave(s).hit(to_light, T_EPS, T_BELOW_ONE).is_some()
                             }
                     })
                 }
                 None => spheres.iter().enumerate().any(|(j, s)| {
-                    j != hit.sphere
-                        && Prepared::new(p, s)
-                            .hit(to_light, T_EPS, T_BELOW_ONE)
-                            .is_some()
+                    j != hit.sphere && leave(s).hit(to_light, T_EPS, T_BELOW_ONE).is_some()
                 }),
             }
         }
@@ -102,7 +108,7 @@ pub fn in_shadow<const S: usize, const L: usize>(
             let l = -direction;
             exit_root(hit.offset, l).is_some()
                 || spheres.iter().enumerate().any(|(j, s)| {
-                    j != hit.sphere && Prepared::new(p, s).hit(l, T_EPS, f32::INFINITY).is_some()
+                    j != hit.sphere && leave(s).hit(l, T_EPS, f32::INFINITY).is_some()
                 })
         }
     }
@@ -221,7 +227,10 @@ pub fn find_from<const S: usize, const L: usize>(
         if j == from {
             continue;
         }
-        let k = Prepared::new(ray.origin, s);
+        let k = match spheres.get(from) {
+            Some(base) => Prepared::leaving(ray.origin, base.center, offset, s),
+            None => Prepared::new(ray.origin, s),
+        };
         if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
             tmax = t;
             best = Some((t, j, k.f));

@@ -61,7 +61,7 @@ pub enum RLight {
 /// The scene and camera in f64.
 pub struct Reference {
     pub spheres: Vec<RSphere>,
-    lights: Vec<RLight>,
+    pub lights: Vec<RLight>,
     ambient: V,
     background: V,
     shadows: bool,
@@ -182,7 +182,7 @@ impl Reference {
         best
     }
 
-    fn blocked(&self, p: V, from: usize, off: V, light: &RLight) -> bool {
+    pub fn blocked(&self, p: V, from: usize, off: V, light: &RLight) -> bool {
         let (d, tmax) = match *light {
             RLight::Point(pos, _) => (sub(pos, p), 1.0),
             RLight::Dir(dir, _) => (mul(dir, -1.0), f64::INFINITY),
