@@ -147,7 +147,11 @@ impl Rng {
     }
     fn dir(&mut self) -> [f64; 3] {
         loop {
-            let v = [self.range(-1.0, 1.0), self.range(-1.0, 1.0), self.range(-1.0, 1.0)];
+            let v = [
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+            ];
             let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
             if n > 0.1 && n <= 1.0 {
                 return [v[0] / n, v[1] / n, v[2] / n];
@@ -206,7 +210,11 @@ fn hard_rays(n: usize) -> Vec<Case> {
         if out.len() % 4 == 3 {
             let radius = 10f64.powf(g.range(3.0, 6.0)) as f32;
             let s = Sphere::new(Vec3::new(0.0, -radius, 0.0), radius);
-            let o = [g.range(-10.0, 10.0), 1.0 + g.range(0.0, 0.01), g.range(-10.0, 10.0)];
+            let o = [
+                g.range(-10.0, 10.0),
+                1.0 + g.range(0.0, 0.01),
+                g.range(-10.0, 10.0),
+            ];
             let dist = 30f64.powf(g.u());
             let phi = g.range(0.0, std::f64::consts::TAU);
             let d = [dist * phi.cos(), -o[1], dist * phi.sin()];
@@ -222,17 +230,32 @@ fn hard_rays(n: usize) -> Vec<Case> {
                 ];
                 -(p[0] * d.x as f64 + p[1] * d.y as f64 + p[2] * d.z as f64) / r >= 0.1
             });
-            out.push(Case { o, d, s, t_ref, clean, ground: true });
+            out.push(Case {
+                o,
+                d,
+                s,
+                t_ref,
+                clean,
+                ground: true,
+            });
         } else {
             let ratio = 10f64.powf(g.range(1.0, 5.0));
             let r = 10f64.powf(g.range(-4.0, 2.0));
             let m = g.dir();
             let m = [m[0] * 100.0 * r, m[1] * 100.0 * r, m[2] * 100.0 * r];
             let u = g.dir();
-            let o = [m[0] + u[0] * ratio * r, m[1] + u[1] * ratio * r, m[2] + u[2] * ratio * r];
+            let o = [
+                m[0] + u[0] * ratio * r,
+                m[1] + u[1] * ratio * r,
+                m[2] + u[2] * ratio * r,
+            ];
             let miss = g.u() < 0.25;
             let w = g.dir();
-            let k = if miss { g.range(1.1, 3.0) } else { g.u().sqrt() * 0.9 } * r;
+            let k = if miss {
+                g.range(1.1, 3.0)
+            } else {
+                g.u().sqrt() * 0.9
+            } * r;
             let target = [m[0] + w[0] * k, m[1] + w[1] * k, m[2] + w[2] * k];
             // aim at the target projected on the plane through the centre facing the origin
             let dv = [target[0] - o[0], target[1] - o[1], target[2] - o[2]];
@@ -246,7 +269,14 @@ fn hard_rays(n: usize) -> Vec<Case> {
             if miss && t_ref.is_some() {
                 continue;
             }
-            out.push(Case { o, d, s, t_ref, clean, ground: false });
+            out.push(Case {
+                o,
+                d,
+                s,
+                t_ref,
+                clean,
+                ground: false,
+            });
         }
     }
     out
@@ -335,7 +365,12 @@ fn timing_set(n: usize) -> (Vec3, Vec<Vec3>, Vec<Sphere>) {
     (eye, dirs, spheres)
 }
 
-fn sum_hits(eye: Vec3, dirs: &[Vec3], spheres: &[Sphere], f: fn(Vec3, Vec3, &Sphere) -> Option<f32>) -> f32 {
+fn sum_hits(
+    eye: Vec3,
+    dirs: &[Vec3],
+    spheres: &[Sphere],
+    f: fn(Vec3, Vec3, &Sphere) -> Option<f32>,
+) -> f32 {
     let mut acc = 0.0;
     for &d in dirs {
         for s in spheres {
@@ -355,15 +390,41 @@ fn plot(points: &[(f64, f64, [u8; 3])], path: &str) {
     let (w, h, m) = (640.0f32, 480.0f32, 50.0f32);
     let mut pm = Pixmap::new(w as u32, h as u32).unwrap();
     pm.fill(Color::WHITE);
-    let (x0, x1) = (points.iter().map(|p| p.0).fold(f64::MAX, f64::min).log10().floor() - 0.0, points.iter().map(|p| p.0).fold(0.0, f64::max).log10().ceil());
-    let (y0, y1) = (-1.0f64, points.iter().map(|p| p.1.max(0.1)).fold(0.0, f64::max).log10().ceil().max(1.0));
+    let (x0, x1) = (
+        points
+            .iter()
+            .map(|p| p.0)
+            .fold(f64::MAX, f64::min)
+            .log10()
+            .floor()
+            - 0.0,
+        points
+            .iter()
+            .map(|p| p.0)
+            .fold(0.0, f64::max)
+            .log10()
+            .ceil(),
+    );
+    let (y0, y1) = (
+        -1.0f64,
+        points
+            .iter()
+            .map(|p| p.1.max(0.1))
+            .fold(0.0, f64::max)
+            .log10()
+            .ceil()
+            .max(1.0),
+    );
     let px = |x: f64| m + (w - 2.0 * m) * ((x.log10() - x0) / (x1 - x0)) as f32;
     let py = |y: f64| h - m - (h - 2.0 * m) * ((y.max(0.1).log10() - y0) / (y1 - y0)) as f32;
     let mut black = Paint::default();
     black.set_color_rgba8(0, 0, 0, 255);
     let mut grey = Paint::default();
     grey.set_color_rgba8(210, 210, 210, 255);
-    let stroke = Stroke { width: 1.5, ..Stroke::default() };
+    let stroke = Stroke {
+        width: 1.5,
+        ..Stroke::default()
+    };
     // grid and ticks at decades
     let mut dec = x0;
     while dec <= x1 + 1e-9 {
@@ -371,7 +432,13 @@ fn plot(points: &[(f64, f64, [u8; 3])], path: &str) {
         let mut pb = PathBuilder::new();
         pb.move_to(x, m);
         pb.line_to(x, h - m + 6.0);
-        pm.stroke_path(&pb.finish().unwrap(), &grey, &stroke, Transform::identity(), None);
+        pm.stroke_path(
+            &pb.finish().unwrap(),
+            &grey,
+            &stroke,
+            Transform::identity(),
+            None,
+        );
         dec += 1.0;
     }
     let mut dec = y0;
@@ -380,7 +447,13 @@ fn plot(points: &[(f64, f64, [u8; 3])], path: &str) {
         let mut pb = PathBuilder::new();
         pb.move_to(m - 6.0, y);
         pb.line_to(w - m, y);
-        pm.stroke_path(&pb.finish().unwrap(), &grey, &stroke, Transform::identity(), None);
+        pm.stroke_path(
+            &pb.finish().unwrap(),
+            &grey,
+            &stroke,
+            Transform::identity(),
+            None,
+        );
         dec += 1.0;
     }
     // axes
@@ -388,7 +461,16 @@ fn plot(points: &[(f64, f64, [u8; 3])], path: &str) {
     pb.move_to(m, m);
     pb.line_to(m, h - m);
     pb.line_to(w - m, h - m);
-    pm.stroke_path(&pb.finish().unwrap(), &black, &Stroke { width: 2.0, ..Stroke::default() }, Transform::identity(), None);
+    pm.stroke_path(
+        &pb.finish().unwrap(),
+        &black,
+        &Stroke {
+            width: 2.0,
+            ..Stroke::default()
+        },
+        Transform::identity(),
+        None,
+    );
     // the 4-ulp target line (dashed look: short segments)
     let y4 = py(4.0);
     let mut x = m;
@@ -396,7 +478,16 @@ fn plot(points: &[(f64, f64, [u8; 3])], path: &str) {
         let mut pb = PathBuilder::new();
         pb.move_to(x, y4);
         pb.line_to((x + 8.0).min(w - m), y4);
-        pm.stroke_path(&pb.finish().unwrap(), &black, &Stroke { width: 1.0, ..Stroke::default() }, Transform::identity(), None);
+        pm.stroke_path(
+            &pb.finish().unwrap(),
+            &black,
+            &Stroke {
+                width: 1.0,
+                ..Stroke::default()
+            },
+            Transform::identity(),
+            None,
+        );
         x += 16.0;
     }
     for &(x, y, c) in points {
@@ -404,8 +495,23 @@ fn plot(points: &[(f64, f64, [u8; 3])], path: &str) {
         paint.set_color_rgba8(c[0], c[1], c[2], 255);
         paint.anti_alias = true;
         let circle = PathBuilder::from_circle(px(x), py(y), 9.0).unwrap();
-        pm.fill_path(&circle, &paint, tiny_skia::FillRule::Winding, Transform::identity(), None);
-        pm.stroke_path(&circle, &black, &Stroke { width: 1.0, ..Stroke::default() }, Transform::identity(), None);
+        pm.fill_path(
+            &circle,
+            &paint,
+            tiny_skia::FillRule::Winding,
+            Transform::identity(),
+            None,
+        );
+        pm.stroke_path(
+            &circle,
+            &black,
+            &Stroke {
+                width: 1.0,
+                ..Stroke::default()
+            },
+            Transform::identity(),
+            None,
+        );
     }
     pm.save_png(path).unwrap();
 }
@@ -443,13 +549,45 @@ fn main() {
     fs.push(&mut f_default);
     fs.push(&mut f_frame);
     let ns = time_all(items, runs, &mut fs);
-    let frame_errors = errors(&cases, |o, d, s| Prepared::exact(o, s).hit(d, f32::MIN_POSITIVE, f32::INFINITY));
+    let frame_errors = errors(&cases, |o, d, s| {
+        Prepared::exact(o, s).hit(d, f32::MIN_POSITIVE, f32::INFINITY)
+    });
     let rows: Vec<(&str, [u8; 3], &str, Errors, f64)> = vec![
-        ("lecture quadratic (-b ± √(b²-4ac))/2a", [220, 40, 40], "red", errors(&cases, lecture), ns[0]),
-        ("geometric t_m ± Δt", [240, 150, 30], "orange", errors(&cases, geometric), ns[1]),
-        ("stable roots + Hearn-Baker, f32 c", [40, 110, 220], "blue", errors(&cases, hearn_baker), ns[2]),
-        ("default, per ray (secondary rays)", [30, 160, 60], "green", errors(&cases, default_per_ray), ns[3]),
-        ("default, per-frame constants (primary)", [20, 90, 30], "dark green", frame_errors, ns[4]),
+        (
+            "lecture quadratic (-b ± √(b²-4ac))/2a",
+            [220, 40, 40],
+            "red",
+            errors(&cases, lecture),
+            ns[0],
+        ),
+        (
+            "geometric t_m ± Δt",
+            [240, 150, 30],
+            "orange",
+            errors(&cases, geometric),
+            ns[1],
+        ),
+        (
+            "stable roots + Hearn-Baker, f32 c",
+            [40, 110, 220],
+            "blue",
+            errors(&cases, hearn_baker),
+            ns[2],
+        ),
+        (
+            "default, per ray (secondary rays)",
+            [30, 160, 60],
+            "green",
+            errors(&cases, default_per_ray),
+            ns[3],
+        ),
+        (
+            "default, per-frame constants (primary)",
+            [20, 90, 30],
+            "dark green",
+            frame_errors,
+            ns[4],
+        ),
     ];
     println!("## Ray-sphere intersection\n");
     println!("{} hard rays ({} far/small up to distance/radius 1e5, the rest grounds of radius 1e3..1e6 seen from 1 above); ulp statistics on hits that do not graze.\n", cases.len(), cases.iter().filter(|c| !c.ground).count());
@@ -468,14 +606,19 @@ fn main() {
     }
     std::fs::create_dir_all("docs").unwrap();
     plot(
-        &rows.iter().map(|r| (r.4, r.3.max_ulp, r.1)).collect::<Vec<_>>(),
+        &rows
+            .iter()
+            .map(|r| (r.4, r.3.max_ulp, r.1))
+            .collect::<Vec<_>>(),
         "docs/speed_vs_error.png",
     );
     println!("\n(plot: docs/speed_vs_error.png — x: ns per test, log; y: max ulp of t, log; dashed: 4 ulp)");
 
     // 2. Square roots.
     let mut g = Rng(7);
-    let xs: Vec<f32> = (0..if quick { 10_000 } else { 100_000 }).map(|_| 10f64.powf(g.range(-8.0, 8.0)) as f32).collect();
+    let xs: Vec<f32> = (0..if quick { 10_000 } else { 100_000 })
+        .map(|_| 10f64.powf(g.range(-8.0, 8.0)) as f32)
+        .collect();
     let sqrt_err = |f: &dyn Fn(f32) -> f32| {
         xs.iter()
             .map(|&x| {
@@ -485,10 +628,19 @@ fn main() {
             .fold(0.0, f64::max)
     };
     let mut s_libm = || xs.iter().map(|&x| libm::sqrtf(black_box(x))).sum::<f32>();
-    let mut s_n1 = || xs.iter().map(|&x| rsqrt_newton(black_box(x), 1)).sum::<f32>();
-    let mut s_n2 = || xs.iter().map(|&x| rsqrt_newton(black_box(x), 2)).sum::<f32>();
+    let mut s_n1 = || {
+        xs.iter()
+            .map(|&x| rsqrt_newton(black_box(x), 1))
+            .sum::<f32>()
+    };
+    let mut s_n2 = || {
+        xs.iter()
+            .map(|&x| rsqrt_newton(black_box(x), 2))
+            .sum::<f32>()
+    };
     let sq_ns = time_all(xs.len(), runs, &mut [&mut s_libm, &mut s_n1, &mut s_n2]);
-    let t_err = |f: fn(f32) -> f32| errors(&cases, move |o, d, s| hearn_baker_with(o, d, s, f)).max_ulp;
+    let t_err =
+        |f: fn(f32) -> f32| errors(&cases, move |o, d, s| hearn_baker_with(o, d, s, f)).max_ulp;
     println!("\n## Square root\n");
     println!("| sqrt | ns/call (host) | × libm | max ulp | max ulp of t (stable roots + HB) | Cortex-M4F instructions |");
     println!("|---|---:|---:|---:|---:|---|");
@@ -497,15 +649,29 @@ fn main() {
     println!("| bit-trick rsqrt + 2 Newton steps, × x | {:.2} | {:.2} | {:.0} | {:.3e} | from firmware work |", sq_ns[2], sq_ns[2] / sq_ns[0], sqrt_err(&|x| rsqrt_newton(x, 2)), t_err(|x| rsqrt_newton(x, 2)));
 
     // 3. Specular powers.
-    let xs: Vec<f32> = (0..if quick { 10_000 } else { 100_000 }).map(|_| g.range(0.5, 1.0) as f32).collect();
+    let xs: Vec<f32> = (0..if quick { 10_000 } else { 100_000 })
+        .map(|_| g.range(0.5, 1.0) as f32)
+        .collect();
     println!("\n## Specular power x^s (x = n·h in [0.5, 1]; error in 8-bit levels at k_s I = 1)\n");
     println!("| s | powf ns | squaring ns | Schlick ns | powf max levels | squaring max levels | Schlick max levels |");
     println!("|---:|---:|---:|---:|---:|---:|---:|");
     for s in [8u32, 32, 128, 1000, 5000] {
         let sf = s as f32;
-        let mut p1 = || xs.iter().map(|&x| libm::powf(black_box(x), sf)).sum::<f32>();
-        let mut p2 = || xs.iter().map(|&x| pow_squaring(black_box(x), s)).sum::<f32>();
-        let mut p3 = || xs.iter().map(|&x| pow_schlick(black_box(x), sf)).sum::<f32>();
+        let mut p1 = || {
+            xs.iter()
+                .map(|&x| libm::powf(black_box(x), sf))
+                .sum::<f32>()
+        };
+        let mut p2 = || {
+            xs.iter()
+                .map(|&x| pow_squaring(black_box(x), s))
+                .sum::<f32>()
+        };
+        let mut p3 = || {
+            xs.iter()
+                .map(|&x| pow_schlick(black_box(x), sf))
+                .sum::<f32>()
+        };
         let t = time_all(xs.len(), runs, &mut [&mut p1, &mut p2, &mut p3]);
         let lv = |f: &dyn Fn(f32) -> f32| {
             xs.iter()
@@ -533,7 +699,8 @@ fn main() {
         .collect();
     names.sort();
     for name in names {
-        let file: Box<Desktop> = Box::new(scene_file::load(format!("tests/hard/{name}.toml")).unwrap());
+        let file: Box<Desktop> =
+            Box::new(scene_file::load(format!("tests/hard/{name}.toml")).unwrap());
         let frame = Box::new(Frame::new(&file.scene, &file.camera, file.options).unwrap());
         let reference = common::reference::Reference::new(&file);
         let (w, h) = (file.camera.width(), file.camera.height());
@@ -550,7 +717,10 @@ fn main() {
         let t = time_all((w * h) as usize, img_runs, &mut [&mut r32, &mut r64]);
         let got = common::render(&file);
         let a = common::agreement(&file, &got);
-        println!("| {name} | {} | {:.0} | {:.0} | {} | {} | {} |", a.total, t[0], t[1], a.over1, a.over8, a.excused);
+        println!(
+            "| {name} | {} | {:.0} | {:.0} | {} | {} | {} |",
+            a.total, t[0], t[1], a.over1, a.over8, a.excused
+        );
     }
     let _ = Ray::new(Vec3::ZERO, Vec3::ZERO);
 }
