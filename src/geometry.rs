@@ -11,13 +11,24 @@
 //!    `q = −(b + sign(b) √…)`, which never subtracts nearly equal numbers (the "stable roots" of
 //!    Press et al., Ray Tracing Gems ch. 7).
 //! 3. **Huge spheres seen from nearby** (a ground of radius 10⁶ one unit below the eye):
-//!    `c = |f|² − r²` cancels; in f32 it is off by percents. Where the f32 value has lost more
-//!    than ~10 of its 24 bits we recompute it in f64, where the squares of f32 numbers are exact
-//!    and the sum is good to ~10⁻¹⁶ of `|f|²`. For rays that share an origin (primary rays,
-//!    shadow rays cast from a point light) [`Prepared::exact`] does this once per frame.
+//!    `c = |f|² − r²` cancels; in f32 it is off by percents. Where the f32 value would lose
+//!    more than about a bit (an origin within 0.73 r of the surface) we recompute it in f64,
+//!    where the differences and squares of f32 numbers are exact and the sum is good to ~10⁻¹⁶
+//!    of `|f|²`. For rays that share an origin (primary rays, shadow rays cast from a point
+//!    light) [`Prepared::exact`] does this once per frame.
 //!
-//! Everything else stays in f32; f64 is only the rare fallback, and it is IEEE-exact on every
+//! Two more losses come after the root, and are answered here too:
+//!
+//! 4. **The hit's offset from the centre** (the normal times r): `f + t·d` loses the low bits
+//!    of r when `|f| ≫ r`, even with t exact. [`hit_point`] recomputes it in f64 from 16 radii
+//!    away.
+//! 5. **Rays leaving a hit far from the origin**: the hit point rounded to f32 is off by half an
+//!    ulp of its coordinates (5·10⁻⁴ at 10⁴). [`Prepared::leaving`] takes `f` for another
+//!    sphere as `(centre − m) + offset` instead, when that is the smaller error.
+//!
+//! Everything else stays in f32; f64 is only the fallback, and it is IEEE-exact on every
 //! target (soft-float included), so a microcontroller still computes the host's bits.
+//! docs/numerics.md measures what each of these costs and buys.
 
 use crate::math::{sqrt, Vec3};
 
