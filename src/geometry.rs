@@ -309,7 +309,7 @@ impl Prepared {
         let t0 = c / q;
         // With q > 0 and c > 0, c/q is the near root (c/q ≤ q/a since q² ≥ b² ≥ ac): when it is
         // in range the far root's divide is not needed.
-        if q > 0.0 && c > 0.0 && t0 >= tmin && t0 <= tmax {
+        if q > 0.0 && c > 0.0 && t0 >= tmin && t0 <= tmax && t0 < f32::INFINITY {
             return Some(t0);
         }
         let t1 = q / a;
@@ -354,12 +354,14 @@ impl Prepared {
     }
 }
 
-/// The near root if it is in `[tmin, tmax]`, else the far one if it is, else `None`.
+/// The near root if it is in `[tmin, tmax]`, else the far one if it is, else `None`. A root
+/// beyond the f32 range (a tiny `d` towards a huge sphere) is a miss, not a hit at infinity.
 #[inline]
 fn select((near, far): (f32, f32), tmin: f32, tmax: f32) -> Option<f32> {
-    if near >= tmin && near <= tmax {
+    let ok = |t: f32| t >= tmin && t <= tmax && t < f32::INFINITY;
+    if ok(near) {
         Some(near)
-    } else if far >= tmin && far <= tmax {
+    } else if ok(far) {
         Some(far)
     } else {
         None
@@ -456,7 +458,8 @@ fn hit_point_f64(d: Vec3, t: f32, f: Vec3, sphere: &Sphere) -> Option<(Vec3, Vec
 }
 
 /// For a ray that starts on the surface of a sphere (`f = o − m` with `|f| = r`): the
-/// parameter where it leaves the sphere again, or `None` when it heads outwards.
+/// parameter where it leaves the sphere again, or `None` when it heads outwards (or the exit is
+/// beyond the f32 range).
 ///
 /// The roots of a quadratic sum to `−2b/a`; one of them is the origin itself, so the other is
 /// `−2b/a` exactly as far as b goes. Computing it this way instead of intersecting the sphere
@@ -473,7 +476,8 @@ fn hit_point_f64(d: Vec3, t: f32, f: Vec3, sphere: &Sphere) -> Option<(Vec3, Vec
 #[inline]
 pub fn exit_root(f: Vec3, d: Vec3) -> Option<f32> {
     let t = -2.0 * f.dot(d) / d.dot(d);
-    if t > 0.0 {
+    // Beyond the f32 range (a tiny d) there is no exit to return: like a miss.
+    if t > 0.0 && t < f32::INFINITY {
         Some(t)
     } else {
         None
