@@ -76,7 +76,11 @@ pub fn in_shadow<const S: usize, const L: usize>(
         return false;
     };
     let p = hit.point;
-    let leave = |s| Prepared::leaving(p, base, hit.offset, s);
+    // `None`: the sphere is certainly behind the shadow ray (see `Prepared::leaving_towards`).
+    let blocks = |s, d, tmax| {
+        Prepared::leaving_towards(p, base, hit.offset, s, d)
+            .is_some_and(|k| k.hit(d, T_EPS, tmax).is_some())
+    };
     match *light {
         Light::Point { position, .. } => {
             let to_light = if hit.offset.max_abs() <= p.max_abs() {
@@ -95,21 +99,23 @@ pub fn in_shadow<const S: usize, const L: usize>(
                             && if k.c <= NEAR_LIGHT * (k.r * k.r) {
                                 k.hit(d, T_EPS, T_BELOW_ONE).is_some()
                             } else {
-                                leave(s).hit(to_light, T_EPS, T_BELOW_ONE).is_some()
+                                blocks(s, to_light, T_BELOW_ONE)
                             }
                     })
                 }
-                None => spheres.iter().enumerate().any(|(j, s)| {
-                    j != hit.sphere && leave(s).hit(to_light, T_EPS, T_BELOW_ONE).is_some()
-                }),
+                None => spheres
+                    .iter()
+                    .enumerate()
+                    .any(|(j, s)| j != hit.sphere && blocks(s, to_light, T_BELOW_ONE)),
             }
         }
         Light::Directional { direction, .. } => {
             let l = -direction;
             exit_root(hit.offset, l).is_some()
-                || spheres.iter().enumerate().any(|(j, s)| {
-                    j != hit.sphere && leave(s).hit(l, T_EPS, f32::INFINITY).is_some()
-                })
+                || spheres
+                    .iter()
+                    .enumerate()
+                    .any(|(j, s)| j != hit.sphere && blocks(s, l, f32::INFINITY))
         }
     }
 }
@@ -228,8 +234,11 @@ pub fn find_from<const S: usize, const L: usize>(
             continue;
         }
         let k = match spheres.get(from) {
-            Some(base) => Prepared::leaving(ray.origin, base.center, offset, s),
-            None => Prepared::new(ray.origin, s),
+            Some(base) => Prepared::leaving_towards(ray.origin, base.center, offset, s, ray.dir),
+            None => Some(Prepared::new(ray.origin, s)),
+        };
+        let Some(k) = k else {
+            continue; // certainly behind the mirror ray
         };
         if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
             tmax = t;
