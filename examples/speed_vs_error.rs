@@ -734,8 +734,8 @@ fn main() {
         }
         acc
     };
-    // microray's shading: Prepared::leaving_towards (the hit's centre and offset, the sphere
-    // skipped when certainly behind) and hit
+    // microray's shading: Prepared::leaving_hit (the hit's centre and offset, the sphere
+    // skipped when certainly behind)
     let sum_shading = || {
         let mut acc = 0.0;
         for &(o, d, from) in &shadow_rays {
@@ -743,8 +743,10 @@ fn main() {
             let offset = o - base;
             for (j, s) in lit_spheres.iter().enumerate() {
                 if j != from {
-                    let k = Prepared::leaving_towards(black_box(o), base, offset, s, d);
-                    if let Some(t) = k.and_then(|k| k.hit(d, f32::MIN_POSITIVE, f32::INFINITY)) {
+                    let (lo, hi) = (f32::MIN_POSITIVE, f32::INFINITY);
+                    if let Some((t, _)) =
+                        Prepared::leaving_hit(black_box(o), base, offset, s, d, lo, hi)
+                    {
                         acc += t;
                     }
                 }
@@ -837,7 +839,7 @@ fn main() {
         "stable roots + Hearn-Baker, f32 c",
         "default, per ray (Prepared::new + hit)",
         "alternative: c always in f64, per ray",
-        "default as shading calls it (leaving_towards + hit)",
+        "default as shading calls it (Prepared::leaving_hit)",
     ]
     .iter()
     .enumerate()
@@ -845,7 +847,7 @@ fn main() {
         println!("| {name} | {:.2} | {:.2} |", ns2[k], ns2[k] / ns2[0]);
     }
     // How often the per-ray default computes c through f64 (software on a Cortex-M4F): the
-    // tests Prepared::new and Prepared::leaving_towards make.
+    // tests Prepared::new and Prepared::leaving_hit make.
     let cancels = |f: Vec3, s: &Sphere| {
         let (ff, rr) = (f.dot(f), s.radius * s.radius);
         let c = ff - rr;

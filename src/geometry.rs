@@ -268,11 +268,11 @@ impl Prepared {
         }
     }
 
-    /// [`Prepared::leaving`] for a ray along `d` that looks forward only (`tmin ≥ 0`), or `None`
-    /// when the sphere is certainly behind it: the origin outside (by more than the f32 error of
-    /// `c`) and `f·d ≥ 0`, so that no root is positive. Then the f64 `c` that `leaving` may need
-    /// is never computed: software floating point on a Cortex-M4F, needed for a quarter of the
-    /// shadow-ray tests of an ordinary scene, most of them for a ground behind the ray.
+    /// What `Prepared::leaving(point, base, offset, sphere).hit(d, tmin, tmax)` returns, with the
+    /// `f` it used, for the shadow and mirror rays of a hit; cheaper, because a sphere certainly
+    /// behind the ray (origin outside by more than the f32 error of `c`, `f·d ≥ 0`, `tmin ≥ 0`)
+    /// is rejected before `c` is finished. That spares the f64 `c` (software floating point on
+    /// a Cortex-M4F) for, say, the ground under a ball when the shadow ray goes up.
     ///
     /// ```
     /// # use microray::{Prepared, Sphere, Vec3};
@@ -280,20 +280,20 @@ impl Prepared {
     /// // the foot of a ball floating 1 above the ground
     /// let (base, offset) = (Vec3::new(0.0, 1.5, 0.0), Vec3::new(0.0, -0.5, 0.0));
     /// let (foot, up) = (Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
-    /// assert_eq!(Prepared::leaving_towards(foot, base, offset, &ground, up), None);
-    /// assert!(Prepared::leaving_towards(foot, base, offset, &ground, -up).is_some());
-    /// // resting on it (c = 0), nothing is certain: the full test decides
-    /// let (base, offset) = (Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.0, -0.5, 0.0));
-    /// assert!(Prepared::leaving_towards(Vec3::ZERO, base, offset, &ground, up).is_some());
+    /// assert_eq!(Prepared::leaving_hit(foot, base, offset, &ground, up, 0.0, f32::INFINITY), None);
+    /// let (t, f) = Prepared::leaving_hit(foot, base, offset, &ground, -up, 0.0, 10.0).unwrap();
+    /// assert_eq!((t, f), (1.0, Vec3::new(0.0, 1001.0, 0.0)));
     /// ```
     #[inline]
-    pub fn leaving_towards(
+    pub fn leaving_hit(
         point: Vec3,
         base: Vec3,
         offset: Vec3,
         sphere: &Sphere,
         d: Vec3,
-    ) -> Option<Self> {
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<(f32, Vec3)> {
         let from_base = offset.max_abs() <= point.max_abs();
         let f = if from_base {
             (base - sphere.center) + offset
@@ -302,15 +302,21 @@ impl Prepared {
         };
         let r = sphere.radius;
         let (ff, rr) = (f.dot(f), r * r);
+        let c = ff - rr;
+        let b = f.dot(d);
         // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f).
-        if ff - rr > (ff + rr) * (1.0 / 1_048_576.0) && f.dot(d) >= 0.0 {
+        if c > (ff + rr) * (1.0 / 1_048_576.0) && b >= 0.0 && tmin >= 0.0 {
             return None;
         }
-        Some(if from_base {
-            Prepared::finish(f, r, || c_f64_surface(base, offset, sphere))
+        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && c.is_finite() {
+            c
+        } else if from_base {
+            c_f64_surface(base, offset, sphere) as f32
         } else {
-            Prepared::finish(f, r, || c_f64(point, sphere.center, r))
-        })
+            c_f64(point, sphere.center, r) as f32
+        };
+        let k = Prepared { f, c, r };
+        k.hit_ab(d, d.dot(d), b, tmin, tmax).map(|t| (t, f))
     }
 
     /// The closest root in `[tmin, tmax]` of the ray from this origin along `d` (any length).
@@ -322,10 +328,15 @@ impl Prepared {
     /// ```
     #[inline]
     pub fn hit(&self, d: Vec3, tmin: f32, tmax: f32) -> Option<f32> {
+        self.hit_ab(d, d.dot(d), self.f.dot(d), tmin, tmax)
+    }
+
+    /// [`Prepared::hit`] with `a = d·d` and `b = f·d` already computed.
+    #[inline]
+    fn hit_ab(&self, d: Vec3, a: f32, b: f32, tmin: f32, tmax: f32) -> Option<f32> {
         // The same roots as `roots`, with the early exits that make it cost about what the
         // lecture's formula costs: most tests are misses.
-        let f = self.f;
-        let (a, b, c, r) = (d.dot(d), f.dot(d), self.c, self.r);
+        let (f, c, r) = (self.f, self.c, self.r);
         // Outside (c > 0) and heading away (b ≥ 0): both roots are negative.
         if c > 0.0 && b >= 0.0 && tmin >= 0.0 {
             return None;

@@ -76,11 +76,8 @@ pub fn in_shadow<const S: usize, const L: usize>(
         return false;
     };
     let p = hit.point;
-    // `None`: the sphere is certainly behind the shadow ray (see `Prepared::leaving_towards`).
-    let blocks = |s, d, tmax| {
-        Prepared::leaving_towards(p, base, hit.offset, s, d)
-            .is_some_and(|k| k.hit(d, T_EPS, tmax).is_some())
-    };
+    let blocks =
+        |s, d, tmax| Prepared::leaving_hit(p, base, hit.offset, s, d, T_EPS, tmax).is_some();
     match *light {
         Light::Point { position, .. } => {
             let to_light = if hit.offset.max_abs() <= p.max_abs() {
@@ -233,16 +230,18 @@ pub fn find_from<const S: usize, const L: usize>(
         if j == from {
             continue;
         }
-        let k = match spheres.get(from) {
-            Some(base) => Prepared::leaving_towards(ray.origin, base.center, offset, s, ray.dir),
-            None => Some(Prepared::new(ray.origin, s)),
+        let found = match spheres.get(from) {
+            Some(base) => {
+                Prepared::leaving_hit(ray.origin, base.center, offset, s, ray.dir, T_EPS, tmax)
+            }
+            None => {
+                let k = Prepared::new(ray.origin, s);
+                k.hit(ray.dir, T_EPS, tmax).map(|t| (t, k.f))
+            }
         };
-        let Some(k) = k else {
-            continue; // certainly behind the mirror ray
-        };
-        if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
+        if let Some((t, f)) = found {
             tmax = t;
-            best = Some((t, j, k.f));
+            best = Some((t, j, f));
         }
     }
     best.map(|(t, j, f)| make_hit(ray, t, j, f, &spheres[j]))
