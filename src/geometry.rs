@@ -367,7 +367,7 @@ impl Prepared {
         if q == 0.0 {
             return select((0.0, 0.0), tmin, tmax);
         }
-        let t0 = c / q;
+        let t0 = near_root(a, b, c, q, s);
         // With q > 0 and c > 0, c/q is the near root (c/q ≤ q/a since q² ≥ b² ≥ ac): when it is
         // in range the far root's divide is not needed.
         if q > 0.0 && c > 0.0 && t0 >= tmin && t0 <= tmax && t0 < f32::INFINITY {
@@ -410,8 +410,21 @@ impl Prepared {
             // b = 0 and a tangent: both roots at t = 0 (origin on the surface, d along it).
             return Some((0.0, 0.0));
         }
-        let (t0, t1) = (c / q, q / a);
+        let (t0, t1) = (near_root(a, b, c, q, s), q / a);
         Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+    }
+}
+
+/// The root `c/q`, or for a sphere ahead of an origin more than ~2 radii away (`c > 0`,
+/// `b < 0`, `s < −b/2`) the same root as `(−b − s)/a`, which then does not cancel and does
+/// not depend on `c`: b is good to an ulp or two, while `c = |f|² − r²` in f32 carries the
+/// rounding of three squares and of f (per-ray constants) and would add as much again.
+#[inline]
+fn near_root(a: f32, b: f32, c: f32, q: f32, s: f32) -> f32 {
+    if c > 0.0 && b < 0.0 && s < -0.5 * b {
+        (-b - s) / a
+    } else {
+        c / q
     }
 }
 
