@@ -149,7 +149,8 @@ pub struct Prepared {
 
 /// f32 `c = ff − rr` is kept only when `|c| > CANCEL (ff + rr)`, that is when the origin is more
 /// than √3 radii from the centre (or inside, less than 1/√3). The f32 error of c is about
-/// 2⁻²⁴ (ff + rr) from the squares plus as much again from rounding `f`, and the near root is
+/// 2⁻²⁴ (ff + rr) from the squares plus as much again from rounding `f`, and the near root
+/// `c/q` (used within ~2 radii, see `near_root`; farther it does not depend on c) is
 /// proportional to c, so `(ff + rr) / |c| ≤ 2` keeps that root within a few ulp. An earlier
 /// threshold of 2⁻¹¹ let c lose 10 bits, and a mirror ray leaving a sphere that rests on a
 /// ground sphere of radius 1000 met the ground 700 ulp off, enough to flip its shadow.
