@@ -11,13 +11,24 @@
 //!    `q = −(b + sign(b) √…)`, which never subtracts nearly equal numbers (the "stable roots" of
 //!    Press et al., Ray Tracing Gems ch. 7).
 //! 3. **Huge spheres seen from nearby** (a ground of radius 10⁶ one unit below the eye):
-//!    `c = |f|² − r²` cancels; in f32 it is off by percents. Where the f32 value has lost more
-//!    than ~10 of its 24 bits we recompute it in f64, where the squares of f32 numbers are exact
-//!    and the sum is good to ~10⁻¹⁶ of `|f|²`. For rays that share an origin (primary rays,
-//!    shadow rays cast from a point light) [`Prepared::exact`] does this once per frame.
+//!    `c = |f|² − r²` cancels; in f32 it is off by percents. Where the f32 value would lose
+//!    more than about a bit (an origin within 0.73 r of the surface) we recompute it in f64,
+//!    where the differences and squares of f32 numbers are exact and the sum is good to ~10⁻¹⁶
+//!    of `|f|²`. For rays that share an origin (primary rays, shadow rays cast from a point
+//!    light) [`Prepared::exact`] does this once per frame.
 //!
-//! Everything else stays in f32; f64 is only the rare fallback, and it is IEEE-exact on every
+//! Two more losses come after the root, and are answered here too:
+//!
+//! 4. **The hit's offset from the centre** (the normal times r): `f + t·d` loses the low bits
+//!    of r when `|f| ≫ r`, even with t exact. [`hit_point`] recomputes it in f64 from 16 radii
+//!    away.
+//! 5. **Rays leaving a hit far from the origin**: the hit point rounded to f32 is off by half an
+//!    ulp of its coordinates (5·10⁻⁴ at 10⁴). [`Prepared::leaving`] takes `f` for another
+//!    sphere as `(centre − m) + offset` instead, when that is the smaller error.
+//!
+//! Everything else stays in f32; f64 is only the fallback, and it is IEEE-exact on every
 //! target (soft-float included), so a microcontroller still computes the host's bits.
+//! docs/numerics.md measures what each of these costs and buys.
 
 use crate::math::{sqrt, Vec3};
 
@@ -136,6 +147,15 @@ pub struct Prepared {
     pub r: f32,
 }
 
+/// f32 `c = ff − rr` is kept only when `|c| > CANCEL (ff + rr)`, that is when the origin is more
+/// than √3 radii from the centre (or inside, less than 1/√3). The f32 error of c is about
+/// 2⁻²⁴ (ff + rr) from the squares plus as much again from rounding `f`, and the near root
+/// `c/q` (used within ~2 radii, see `near_root`; farther it does not depend on c) is
+/// proportional to c, so `(ff + rr) / |c| ≤ 2` keeps that root within a few ulp. An earlier
+/// threshold of 2⁻¹¹ let c lose 10 bits, and a mirror ray leaving a sphere that rests on a
+/// ground sphere of radius 1000 met the ground 700 ulp off, enough to flip its shadow.
+const CANCEL: f32 = 0.5;
+
 /// `c` in f64 from exact differences: for f32 inputs `x − y` and `x²` lose nothing in f64
 /// (except at extreme exponent gaps), so only the final sum rounds.
 fn c_f64(o: Vec3, m: Vec3, r: f32) -> f64 {
@@ -144,6 +164,19 @@ fn c_f64(o: Vec3, m: Vec3, r: f32) -> f64 {
     let fz = o.z as f64 - m.z as f64;
     let r = r as f64;
     fx * fx + fy * fy + fz * fz - r * r
+}
+
+/// `c` in f64 for the origin `base + offset` (see [`Prepared::from_surface`]).
+fn c_f64_surface(base: Vec3, offset: Vec3, sphere: &Sphere) -> f64 {
+    let g = |b: f32, m: f32, o: f32| (b as f64 - m as f64) + o as f64;
+    let m = sphere.center;
+    let (x, y, z) = (
+        g(base.x, m.x, offset.x),
+        g(base.y, m.y, offset.y),
+        g(base.z, m.z, offset.z),
+    );
+    let r = sphere.radius as f64;
+    x * x + y * y + z * z - r * r
 }
 
 impl Prepared {
@@ -163,9 +196,9 @@ impl Prepared {
         }
     }
 
-    /// The constants for one ray from `origin`: `c` in f32, redone in f64 only where the f32
-    /// subtraction has cancelled more than ~10 bits (an origin close to the surface of a sphere
-    /// that is large for its distance) or overflowed.
+    /// The constants for one ray from `origin`: `c` in f32, redone in f64 where the f32
+    /// subtraction cancels more than a bit (an origin within 0.73 radii of the surface) or
+    /// overflows.
     ///
     /// ```
     /// # use microray::{Prepared, Sphere, Vec3};
@@ -175,17 +208,116 @@ impl Prepared {
     #[inline]
     pub fn new(origin: Vec3, sphere: &Sphere) -> Self {
         let f = origin - sphere.center;
+        Prepared::finish(f, sphere.radius, || {
+            c_f64(origin, sphere.center, sphere.radius)
+        })
+    }
+
+    /// `c` for `f` in f32, or `exact()` where the f32 value cancels or overflows.
+    #[inline]
+    fn finish(f: Vec3, r: f32, exact: impl FnOnce() -> f64) -> Self {
+        let (ff, rr) = (f.dot(f), r * r);
+        let c = ff - rr;
+        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && c.is_finite() {
+            c
+        } else {
+            exact() as f32
+        };
+        Prepared { f, c, r }
+    }
+
+    /// The constants for a ray that starts on the surface of the sphere centred at `base`, at
+    /// `base + offset` (a [`Hit`](crate::Hit)'s centre and offset): `f = (base − m) + offset`.
+    ///
+    /// The hit point itself, rounded to f32, is off by half an ulp of its coordinates: 5·10⁻⁴
+    /// for a scene 10⁴ from the origin, a large part of a unit sphere's shading. Centres near
+    /// each other subtract exactly, and the offset is small and accurate, so `f` is good to an
+    /// ulp of `|f|` wherever the scene is. `c` falls back to f64 as in [`Prepared::new`].
+    ///
+    /// ```
+    /// # use microray::{Prepared, Sphere, Vec3};
+    /// let base = Vec3::new(1e4, 1e4, 1e4);
+    /// let offset = Vec3::new(0.0, 1.0, 1e-4); // a point on a unit sphere at `base`
+    /// let other = Sphere::new(Vec3::new(1e4, 1e4 + 3.0, 1e4), 1.0);
+    /// let k = Prepared::from_surface(base, offset, &other);
+    /// assert_eq!(k.f, Vec3::new(0.0, -2.0, 1e-4)); // (base + offset) − m would say z = 0
+    /// ```
+    #[inline]
+    pub fn from_surface(base: Vec3, offset: Vec3, sphere: &Sphere) -> Self {
+        let f = (base - sphere.center) + offset;
+        Prepared::finish(f, sphere.radius, || c_f64_surface(base, offset, sphere))
+    }
+
+    /// The constants for a ray leaving a hit point `point = base + offset` on the surface of the
+    /// sphere centred at `base`: [`Prepared::from_surface`] when the offset (the radius) is
+    /// smaller than the point's coordinates, which is then the more accurate, else
+    /// [`Prepared::new`] from the point (a huge ground sphere near the origin).
+    ///
+    /// ```
+    /// # use microray::{Prepared, Sphere, Vec3};
+    /// let other = Sphere::new(Vec3::new(0.0, 3.0, 0.0), 1.0);
+    /// let (base, offset) = (Vec3::new(0.0, -1e6, 0.0), Vec3::new(0.0, 1e6, 0.0));
+    /// let k = Prepared::leaving(Vec3::ZERO, base, offset, &other);
+    /// assert_eq!(k, Prepared::new(Vec3::ZERO, &other));
+    /// ```
+    #[inline]
+    pub fn leaving(point: Vec3, base: Vec3, offset: Vec3, sphere: &Sphere) -> Self {
+        if offset.max_abs() <= point.max_abs() {
+            Prepared::from_surface(base, offset, sphere)
+        } else {
+            Prepared::new(point, sphere)
+        }
+    }
+
+    /// What `Prepared::leaving(point, base, offset, sphere).hit(d, tmin, tmax)` returns, with the
+    /// `f` it used, for the shadow and mirror rays of a hit; cheaper, because a sphere certainly
+    /// behind the ray (origin outside by more than the f32 error of `c`, `f·d ≥ 0`, `tmin ≥ 0`)
+    /// is rejected before `c` is finished. That spares the f64 `c` (software floating point on
+    /// a Cortex-M4F) for, say, the ground under a ball when the shadow ray goes up.
+    ///
+    /// ```
+    /// # use microray::{Prepared, Sphere, Vec3};
+    /// let ground = Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0);
+    /// // the foot of a ball floating 1 above the ground
+    /// let (base, offset) = (Vec3::new(0.0, 1.5, 0.0), Vec3::new(0.0, -0.5, 0.0));
+    /// let (foot, up) = (Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+    /// assert_eq!(Prepared::leaving_hit(foot, base, offset, &ground, up, 0.0, f32::INFINITY), None);
+    /// let (t, f) = Prepared::leaving_hit(foot, base, offset, &ground, -up, 0.0, 10.0).unwrap();
+    /// assert_eq!((t, f), (1.0, Vec3::new(0.0, 1001.0, 0.0)));
+    /// ```
+    #[inline]
+    pub fn leaving_hit(
+        point: Vec3,
+        base: Vec3,
+        offset: Vec3,
+        sphere: &Sphere,
+        d: Vec3,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<(f32, Vec3)> {
+        let from_base = offset.max_abs() <= point.max_abs();
+        let f = if from_base {
+            (base - sphere.center) + offset
+        } else {
+            point - sphere.center
+        };
         let r = sphere.radius;
         let (ff, rr) = (f.dot(f), r * r);
         let c = ff - rr;
-        // 2⁻¹¹ (ff + rr) bounds |c| from below when at least ~10 bits survive the subtraction;
-        // the f32 error of c is about 2⁻²³ (ff + rr).
-        let c = if libm::fabsf(c) > (ff + rr) * (1.0 / 2048.0) && c.is_finite() {
+        let b = f.dot(d);
+        // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f).
+        if c > (ff + rr) * (1.0 / 1_048_576.0) && b >= 0.0 && tmin >= 0.0 {
+            return None;
+        }
+        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && c.is_finite() {
             c
+        } else if from_base {
+            c_f64_surface(base, offset, sphere) as f32
         } else {
-            c_f64(origin, sphere.center, r) as f32
+            c_f64(point, sphere.center, r) as f32
         };
-        Prepared { f, c, r }
+        let k = Prepared { f, c, r };
+        k.hit_ab(d, d.dot(d), b, tmin, tmax).map(|t| (t, f))
     }
 
     /// The closest root in `[tmin, tmax]` of the ray from this origin along `d` (any length).
@@ -197,14 +329,53 @@ impl Prepared {
     /// ```
     #[inline]
     pub fn hit(&self, d: Vec3, tmin: f32, tmax: f32) -> Option<f32> {
-        let (near, far) = self.roots(d)?;
-        if near >= tmin && near <= tmax {
-            Some(near)
-        } else if far >= tmin && far <= tmax {
-            Some(far)
-        } else {
-            None
+        self.hit_ab(d, d.dot(d), self.f.dot(d), tmin, tmax)
+    }
+
+    /// [`Prepared::hit`] with `a = d·d` and `b = f·d` already computed.
+    #[inline]
+    fn hit_ab(&self, d: Vec3, a: f32, b: f32, tmin: f32, tmax: f32) -> Option<f32> {
+        // The same roots as `roots`, with the early exits that make it cost about what the
+        // lecture's formula costs: most tests are misses.
+        let (f, c, r) = (self.f, self.c, self.r);
+        // Outside (c > 0) and heading away (b ≥ 0): both roots are negative.
+        if c > 0.0 && b >= 0.0 && tmin >= 0.0 {
+            return None;
         }
+        let rr = r * r;
+        let bb = b * b;
+        let disc0 = bb - a * c;
+        let disc = if libm::fabsf(c) <= rr {
+            disc0
+        } else {
+            // b² − ac is off by a few ε (b² + a|c|) (its rounding, and that of b and c); a value
+            // below −2⁻¹⁸ of that is a miss whatever the rounding, without Hearn–Baker's divide.
+            if disc0 < -(bb + a * libm::fabsf(c)) * (1.0 / 262_144.0) {
+                return None;
+            }
+            let l = f - d * (b / a);
+            a * (rr - l.dot(l))
+        };
+        if !((0.0..=f32::MAX).contains(&disc) && c.is_finite()) {
+            // Overflow shows as ±∞ or NaN somewhere on the way to disc (or in c).
+            if disc < 0.0 && disc.is_finite() {
+                return None;
+            }
+            return select(roots_f64(f, d, r)?, tmin, tmax);
+        }
+        let s = sqrt(disc);
+        let q = if b > 0.0 { -(b + s) } else { s - b };
+        if q == 0.0 {
+            return select((0.0, 0.0), tmin, tmax);
+        }
+        let t0 = near_root(a, b, c, q, s);
+        // With q > 0 and c > 0, c/q is the near root (c/q ≤ q/a since q² ≥ b² ≥ ac): when it is
+        // in range the far root's divide is not needed.
+        if q > 0.0 && c > 0.0 && t0 >= tmin && t0 <= tmax && t0 < f32::INFINITY {
+            return Some(t0);
+        }
+        let t1 = q / a;
+        select(if t0 <= t1 { (t0, t1) } else { (t1, t0) }, tmin, tmax)
     }
 
     /// Both roots `(near, far)` of the ray along `d`, or `None` when it misses the sphere.
@@ -240,8 +411,35 @@ impl Prepared {
             // b = 0 and a tangent: both roots at t = 0 (origin on the surface, d along it).
             return Some((0.0, 0.0));
         }
-        let (t0, t1) = (c / q, q / a);
+        let (t0, t1) = (near_root(a, b, c, q, s), q / a);
         Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+    }
+}
+
+/// The root `c/q`, or for a sphere ahead of an origin more than ~2 radii away (`c > 0`,
+/// `b < 0`, `s < −b/2`) the same root as `(−b − s)/a`, which then does not cancel and does
+/// not depend on `c`: b is good to an ulp or two, while `c = |f|² − r²` in f32 carries the
+/// rounding of three squares and of f (per-ray constants) and would add as much again.
+#[inline]
+fn near_root(a: f32, b: f32, c: f32, q: f32, s: f32) -> f32 {
+    if c > 0.0 && b < 0.0 && s < -0.5 * b {
+        (-b - s) / a
+    } else {
+        c / q
+    }
+}
+
+/// The near root if it is in `[tmin, tmax]`, else the far one if it is, else `None`. A root
+/// beyond the f32 range (a tiny `d` towards a huge sphere) is a miss, not a hit at infinity.
+#[inline]
+fn select((near, far): (f32, f32), tmin: f32, tmax: f32) -> Option<f32> {
+    let ok = |t: f32| t >= tmin && t <= tmax && t < f32::INFINITY;
+    if ok(near) {
+        Some(near)
+    } else if ok(far) {
+        Some(far)
+    } else {
+        None
     }
 }
 
@@ -269,8 +467,74 @@ fn roots_f64(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
     Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
 }
 
+/// Where a ray that hit `sphere` at parameter `t` meets it: the point and the point's offset from
+/// the centre (the outward normal times the radius). `f` is the ray origin minus the centre, as
+/// [`Prepared`] has it (for rays leaving a surface more accurate than `ray.origin − centre`).
+///
+/// `f + t·d` loses the offset's low bits when the sphere is small for its distance (|f| ≫ r):
+/// with `t` right to half an ulp, a sphere of radius 10⁻⁴ seen from 10 units would still get
+/// normals wrong by 1%. From 16 radii away the offset is therefore recomputed in f64 from the
+/// foot of the perpendicular from the centre to the ray, `l = f − (b/a) d`, which f64 gets to
+/// ~10⁻¹⁶ |f|, and the point as `centre + offset`. Nearer, `f + t·d` is good to a few ulp of r.
+///
+/// ```
+/// use microray::geometry::hit_point;
+/// use microray::{Ray, Sphere, Vec3};
+/// let tiny = Sphere::new(Vec3::ZERO, 1e-4);
+/// let ray = Ray::new(Vec3::new(0.0, 6e-5, 10.0), Vec3::new(0.0, 0.0, -1.0));
+/// let t = microray::ray_intersect(&ray, &tiny, 0.0, f32::INFINITY).unwrap();
+/// let (p, offset) = hit_point(&ray, t, ray.origin - tiny.center, &tiny);
+/// assert_eq!(offset, Vec3::new(0.0, 6e-5, 8e-5)); // exact to the last bit
+/// assert_eq!(p, offset);
+/// // whereas f + t·d is off in the 3rd digit:
+/// assert!(((ray.origin + ray.dir * t).z - 8e-5).abs() > 1e-7);
+/// ```
+#[inline]
+pub fn hit_point(ray: &Ray, t: f32, f: Vec3, sphere: &Sphere) -> (Vec3, Vec3) {
+    let d = ray.dir;
+    let r = sphere.radius;
+    let ff = f.dot(f);
+    if ff <= 256.0 * (r * r) {
+        return (ray.at(t), f + d * t);
+    }
+    hit_point_f64(ray.dir, t, f, sphere).unwrap_or((ray.at(t), f + d * t))
+}
+
+#[cold]
+fn hit_point_f64(d: Vec3, t: f32, f: Vec3, sphere: &Sphere) -> Option<(Vec3, Vec3)> {
+    let v = |p: Vec3| [p.x as f64, p.y as f64, p.z as f64];
+    let dot = |u: [f64; 3], w: [f64; 3]| u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
+    let (f, d, m) = (v(f), v(d), v(sphere.center));
+    let r = sphere.radius as f64;
+    let a = dot(d, d);
+    let k = dot(f, d) / a;
+    let l = [f[0] - k * d[0], f[1] - k * d[1], f[2] - k * d[2]];
+    let h2 = r * r - dot(l, l);
+    let s = libm::sqrt(if h2 > 0.0 { h2 / a } else { 0.0 });
+    // The roots are −k ∓ s; the hit is the one that `t` approximates.
+    let t = t as f64;
+    let s = if libm::fabs(t - (-k - s)) <= libm::fabs(t - (-k + s)) {
+        -s
+    } else {
+        s
+    };
+    let off = [l[0] + s * d[0], l[1] + s * d[1], l[2] + s * d[2]];
+    let offset = Vec3::new(off[0] as f32, off[1] as f32, off[2] as f32);
+    let point = Vec3::new(
+        (m[0] + off[0]) as f32,
+        (m[1] + off[1]) as f32,
+        (m[2] + off[2]) as f32,
+    );
+    if offset.is_finite() && point.is_finite() {
+        Some((point, offset))
+    } else {
+        None
+    }
+}
+
 /// For a ray that starts on the surface of a sphere (`f = o − m` with `|f| = r`): the
-/// parameter where it leaves the sphere again, or `None` when it heads outwards.
+/// parameter where it leaves the sphere again, or `None` when it heads outwards (or the exit is
+/// beyond the f32 range).
 ///
 /// The roots of a quadratic sum to `−2b/a`; one of them is the origin itself, so the other is
 /// `−2b/a` exactly as far as b goes. Computing it this way instead of intersecting the sphere
@@ -287,7 +551,8 @@ fn roots_f64(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
 #[inline]
 pub fn exit_root(f: Vec3, d: Vec3) -> Option<f32> {
     let t = -2.0 * f.dot(d) / d.dot(d);
-    if t > 0.0 {
+    // Beyond the f32 range (a tiny d) there is no exit to return: like a miss.
+    if t > 0.0 && t < f32::INFINITY {
         Some(t)
     } else {
         None

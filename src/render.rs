@@ -200,7 +200,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // `get`, not `[i]`: the compiler cannot prove i in bounds and would link a panic.
         let (t, i) = best?;
         let k = self.eye.get(i)?;
-        Some(make_hit(ray, t, i, k.f, k.r))
+        let sphere = self.scene.spheres().get(i)?;
+        Some(make_hit(ray, t, i, k.f, sphere))
     }
 
     /// The linear colour seen along a primary ray from the eye.

@@ -3,7 +3,7 @@
 //! Every value is checked when it is added, so the render path never meets an invalid scene.
 
 use crate::error::Error;
-use crate::geometry::{Prepared, Ray, Sphere};
+use crate::geometry::{hit_point, Prepared, Ray, Sphere};
 use crate::math::{Color, Vec3};
 
 /// How a sphere reflects light.
@@ -385,17 +385,17 @@ impl<const S: usize, const L: usize> Scene<S, L> {
                 best = Some((t, i, k));
             }
         }
-        best.map(|(t, i, k)| make_hit(ray, t, i, k.f, k.r))
+        best.map(|(t, i, k)| make_hit(ray, t, i, k.f, &self.spheres[i]))
     }
 }
 
 /// The hit record for parameter `t` on sphere `i`, given `f = origin − centre`.
 #[inline]
-pub(crate) fn make_hit(ray: &Ray, t: f32, i: usize, f: Vec3, r: f32) -> Hit {
-    // f + t·d is the hit relative to the centre: unlike `point − centre` it does not lose the
-    // low bits of a point far from the origin.
-    let offset = f + ray.dir * t;
-    let outward = offset / r;
+pub(crate) fn make_hit(ray: &Ray, t: f32, i: usize, f: Vec3, sphere: &Sphere) -> Hit {
+    // The offset from the centre is computed directly (see `hit_point`): unlike
+    // `point − centre` it does not lose the low bits of a point far from the origin.
+    let (point, offset) = hit_point(ray, t, f, sphere);
+    let outward = offset / sphere.radius;
     let normal = if ray.dir.dot(outward) > 0.0 {
         -outward
     } else {
@@ -404,7 +404,7 @@ pub(crate) fn make_hit(ray: &Ray, t: f32, i: usize, f: Vec3, r: f32) -> Hit {
     Hit {
         t,
         sphere: i,
-        point: ray.at(t),
+        point,
         normal,
         offset,
     }

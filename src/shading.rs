@@ -10,7 +10,7 @@
 //! intersected again; [`exit_root`] says analytically where such a ray leaves it (only when seen
 //! from inside), so there is no self-shadowing "acne" and no epsilon to tune.
 
-use crate::geometry::{exit_root, Prepared, Ray};
+use crate::geometry::{exit_root, Prepared, Ray, Sphere};
 use crate::math::{powf, Color, Vec3};
 use crate::scene::{make_hit, Hit, Light, Scene};
 
@@ -18,12 +18,25 @@ use crate::scene::{make_hit, Hit, Light, Scene};
 pub(crate) const T_EPS: f32 = f32::MIN_POSITIVE;
 /// Just below one: a point light's shadow ray covers `0 < t < 1` of `light − p`.
 const T_BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
+/// Point-light constants are used for spheres with `|light − m|² − r² ≤ NEAR_LIGHT r²`
+/// (within 32 radii of the light), see [`in_shadow`].
+const NEAR_LIGHT: f32 = 1023.0;
 
 /// Where the light comes from at `hit`: the unit vector `l` towards it.
 #[inline]
 fn towards(light: &Light, p: Vec3) -> Vec3 {
     match *light {
-        Light::Point { position, .. } => (position - p).normalize_fast(),
+        Light::Point { position, .. } => {
+            let v = position - p;
+            let ll = v.dot(v);
+            // |v|² overflows beyond ~10¹⁹ and underflows below ~10⁻¹⁹: then the guarded form
+            // (and no light at all from a light exactly at p).
+            if ll.is_finite() && ll >= f32::MIN_POSITIVE {
+                v / crate::math::sqrt(ll)
+            } else {
+                v.normalized().unwrap_or(Vec3::ZERO)
+            }
+        }
         Light::Directional { direction, .. } => -direction,
     }
 }
@@ -32,7 +45,11 @@ fn towards(light: &Light, p: Vec3) -> Vec3 {
 ///
 /// `from_light`, when given, holds [`Prepared::exact`] constants of a point light for every
 /// sphere: the shadow ray is then cast from the light towards `p`, sharing its origin with all
-/// other shadow rays of that light.
+/// other shadow rays of that light. Only for spheres within 32 radii of the light, though: the
+/// direction `p − light` is rounded, so the ray cast from the light passes `p` (and any sphere
+/// near it) off by up to ~ε |light − p|, which is nothing next to such a sphere but would move
+/// the shadow of a sphere of radius 1 by a whole unit for a light 10⁷ away. Spheres farther from
+/// the light are tested from `p`, where the error is at the light's end.
 ///
 /// ```
 /// use microray::{shading::in_shadow, Color, Light, Material, Ray, Scene, Sphere, Vec3};
@@ -51,36 +68,51 @@ pub fn in_shadow<const S: usize, const L: usize>(
     light: &Light,
     from_light: Option<&[Prepared]>,
 ) -> bool {
-    let p = hit.point;
     let spheres = scene.spheres();
+    // Rays leave the hit at `base + hit.offset`: differences to other points are taken from the
+    // centre `base` where that is more accurate than the rounded point (see `Prepared::leaving`),
+    // which keeps them exact however far from the origin the scene is.
+    let Some(base) = spheres.get(hit.sphere).map(|s| s.center) else {
+        return false;
+    };
+    let p = hit.point;
+    let blocks =
+        |s, d, tmax| Prepared::leaving_hit(p, base, hit.offset, s, d, T_EPS, tmax).is_some();
     match *light {
         Light::Point { position, .. } => {
-            let to_light = position - p;
+            let to_light = if hit.offset.max_abs() <= p.max_abs() {
+                (position - base) - hit.offset
+            } else {
+                position - p
+            };
             if exit_root(hit.offset, to_light).is_some_and(|t| t < 1.0) {
                 return true;
             }
             match from_light {
                 Some(consts) => {
-                    let d = p - position;
-                    consts
-                        .iter()
-                        .enumerate()
-                        .any(|(j, k)| j != hit.sphere && k.hit(d, T_EPS, T_BELOW_ONE).is_some())
+                    let d = -to_light;
+                    consts.iter().zip(spheres).enumerate().any(|(j, (k, s))| {
+                        j != hit.sphere
+                            && if k.c <= NEAR_LIGHT * (k.r * k.r) {
+                                k.hit(d, T_EPS, T_BELOW_ONE).is_some()
+                            } else {
+                                blocks(s, to_light, T_BELOW_ONE)
+                            }
+                    })
                 }
-                None => spheres.iter().enumerate().any(|(j, s)| {
-                    j != hit.sphere
-                        && Prepared::new(p, s)
-                            .hit(to_light, T_EPS, T_BELOW_ONE)
-                            .is_some()
-                }),
+                None => spheres
+                    .iter()
+                    .enumerate()
+                    .any(|(j, s)| j != hit.sphere && blocks(s, to_light, T_BELOW_ONE)),
             }
         }
         Light::Directional { direction, .. } => {
             let l = -direction;
             exit_root(hit.offset, l).is_some()
-                || spheres.iter().enumerate().any(|(j, s)| {
-                    j != hit.sphere && Prepared::new(p, s).hit(l, T_EPS, f32::INFINITY).is_some()
-                })
+                || spheres
+                    .iter()
+                    .enumerate()
+                    .any(|(j, s)| j != hit.sphere && blocks(s, l, f32::INFINITY))
         }
     }
 }
@@ -190,26 +222,34 @@ pub fn find_from<const S: usize, const L: usize>(
     offset: Vec3,
 ) -> Option<Hit> {
     let spheres = scene.spheres();
-    // The radius travels with the index: re-indexing `spheres` would link a bounds-check panic.
-    let mut best: Option<(f32, usize, Vec3, f32)> = None;
+    // The sphere travels with the index: re-indexing `spheres` would link a bounds-check panic.
+    let mut best: Option<(f32, usize, Vec3, &Sphere)> = None;
     let mut tmax = f32::INFINITY;
     if let Some(s) = spheres.get(from) {
         if let Some(t) = exit_root(offset, ray.dir) {
             tmax = t;
-            best = Some((t, from, offset, s.radius));
+            best = Some((t, from, offset, s));
         }
     }
     for (j, s) in spheres.iter().enumerate() {
         if j == from {
             continue;
         }
-        let k = Prepared::new(ray.origin, s);
-        if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
+        let found = match spheres.get(from) {
+            Some(base) => {
+                Prepared::leaving_hit(ray.origin, base.center, offset, s, ray.dir, T_EPS, tmax)
+            }
+            None => {
+                let k = Prepared::new(ray.origin, s);
+                k.hit(ray.dir, T_EPS, tmax).map(|t| (t, k.f))
+            }
+        };
+        if let Some((t, f)) = found {
             tmax = t;
-            best = Some((t, j, k.f, s.radius));
+            best = Some((t, j, f, s));
         }
     }
-    best.map(|(t, j, f, r)| make_hit(ray, t, j, f, r))
+    best.map(|(t, j, f, s)| make_hit(ray, t, j, f, s))
 }
 
 /// The colour seen along a ray: the hit's local colour plus its mirror reflections, or the

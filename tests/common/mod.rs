@@ -77,3 +77,66 @@ pub fn diff(a: &Image, b: &Image) -> Diff {
     }
     d
 }
+
+pub mod reference;
+
+/// The f32 image against the f64 reference, with the edges and tangents excused.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Agreement {
+    pub total: usize,
+    /// Pixels that differ by more than 1 level but change in f64 when the ray moves by 2 ulp.
+    pub excused: usize,
+    /// Pixels, not excused, off by more than 1 and by more than 8 levels, and the largest error.
+    pub over1: usize,
+    pub over8: usize,
+    pub max: u8,
+    /// Pixels that are not the background colour in the reference (the scene is not empty).
+    pub covered: usize,
+}
+
+impl Agreement {
+    /// The goal: no pixel off by more than 8, ≥ 99.5% within 1 (excused pixels left out).
+    pub fn holds(&self) -> bool {
+        let n = (self.total - self.excused) as f64;
+        self.over8 == 0 && self.over1 as f64 <= 0.005 * n
+    }
+}
+
+/// Compares microray's image with the reference's for the same scene.
+pub fn agreement(file: &Desktop, got: &Image) -> Agreement {
+    let r = reference::Reference::new(file);
+    let want = r.render();
+    let bg = r.pixel_background();
+    let mut a = Agreement {
+        total: want.len(),
+        excused: 0,
+        over1: 0,
+        over8: 0,
+        max: 0,
+        covered: want.iter().filter(|p| **p != bg).count(),
+    };
+    for (k, (p, q)) in got.pixels.iter().zip(&want).enumerate() {
+        let m = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
+        if m <= 1 {
+            continue;
+        }
+        let (i, j) = (k as u32 % r.width, k as u32 / r.width);
+        if r.sensitive(i, j) {
+            a.excused += 1;
+            continue;
+        }
+        a.max = a.max.max(m);
+        a.over1 += 1;
+        a.over8 += (m > 8) as usize;
+    }
+    a
+}
+
+/// Writes an image as a PNG (for looking at a failing case).
+pub fn write_png(img: &Image, path: &str) {
+    let mut pm = tiny_skia::Pixmap::new(img.width, img.height).unwrap();
+    for (dst, p) in pm.pixels_mut().iter_mut().zip(&img.pixels) {
+        *dst = tiny_skia::PremultipliedColorU8::from_rgba(p[0], p[1], p[2], 255).unwrap();
+    }
+    pm.save_png(path).unwrap();
+}

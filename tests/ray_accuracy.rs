@@ -1,0 +1,503 @@
+//! Ray-level accuracy: the error of `t` in ulp against a reference on ray sets for each hard
+//! case, self-intersection of shadow and mirror rays, and contact shadows.
+//!
+//! The reference root is computed in f64 from the same f32 inputs with Hearn and Baker's
+//! discriminant and the stable roots: its error is about 2⁻⁵³ (|f|/r) relative for far spheres
+//! and 2⁻⁵³ |f|²/|c| for origins near a huge sphere; on these sets that is below 10⁻¹⁰, far
+//! under an f32 ulp (6·10⁻⁸), so the f64 reference is enough here.
+
+mod common;
+
+use microray::geometry::exit_root;
+use microray::shading::{find_from, in_shadow, reflect};
+use microray::{ray_intersect, Color, Light, Material, Prepared, Ray, Scene, Sphere, Vec3};
+
+struct Rng(u64);
+
+impl Rng {
+    fn u(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.u()
+    }
+    /// A uniformly random unit vector.
+    fn dir(&mut self) -> [f64; 3] {
+        loop {
+            let v = [
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+            ];
+            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            if n > 0.1 && n <= 1.0 {
+                return [v[0] / n, v[1] / n, v[2] / n];
+            }
+        }
+    }
+}
+
+fn v32(v: [f64; 3]) -> Vec3 {
+    Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32)
+}
+fn v64(v: Vec3) -> [f64; 3] {
+    [v.x as f64, v.y as f64, v.z as f64]
+}
+
+/// The near root (t > 0 first) in f64 of the f32 ray and sphere, or None.
+fn reference_t(o: Vec3, d: Vec3, s: &Sphere) -> Option<f64> {
+    use common::reference::{dot, mul, sub};
+    let (o, d, m, r) = (v64(o), v64(d), v64(s.center), s.radius as f64);
+    let f = sub(o, m);
+    let a = dot(d, d);
+    let b = dot(f, d);
+    let c = dot(f, f) - r * r;
+    let l = sub(f, mul(d, b / a));
+    let disc = a * (r * r - dot(l, l));
+    if disc < 0.0 {
+        return None;
+    }
+    let q = -(b + b.signum() * disc.sqrt());
+    let (t0, t1) = (c / q, q / a);
+    let (t0, t1) = (t0.min(t1), t0.max(t1));
+    if t0 > 0.0 {
+        Some(t0)
+    } else if t1 > 0.0 {
+        Some(t1)
+    } else {
+        None
+    }
+}
+
+/// |t − t_ref| in f32 ulp of t_ref.
+fn ulps(t: f32, t_ref: f64) -> f64 {
+    (t as f64 - t_ref).abs() / common::reference::ulp32(t_ref)
+}
+
+#[derive(Default, Debug)]
+struct Stats {
+    errs: Vec<f64>,
+    misses: usize,
+}
+
+impl Stats {
+    fn max(&self) -> f64 {
+        self.errs.iter().cloned().fold(0.0, f64::max)
+    }
+    fn median(&mut self) -> f64 {
+        self.errs.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        self.errs.get(self.errs.len() / 2).cloned().unwrap_or(0.0)
+    }
+}
+
+/// Rays from `o` to random points of the sphere's disc seen from `o`, at most `impact` of the
+/// radius off-centre (impact < 1: not near-tangent), in ulp of t, for both ways microray
+/// intersects: per-frame constants (`Prepared::exact`, primary rays) and per-ray
+/// (`ray_intersect`, secondary rays).
+fn far_set(ratio: f64, n: usize, impact: f64, seed: u64) -> (Stats, Stats) {
+    let mut g = Rng(seed);
+    let (mut exact, mut per_ray) = (Stats::default(), Stats::default());
+    for _ in 0..n {
+        let r = 10f64.powf(g.range(-4.0, 2.0));
+        let m = g.dir();
+        let m = [m[0] * 100.0 * r, m[1] * 100.0 * r, m[2] * 100.0 * r];
+        let u = g.dir();
+        let dist = ratio * r;
+        let o = [m[0] + u[0] * dist, m[1] + u[1] * dist, m[2] + u[2] * dist];
+        // a target point in the disc through the centre perpendicular to the view: the ray
+        // passes the centre at (about) k
+        let w = g.dir();
+        let kw = w[0] * u[0] + w[1] * u[1] + w[2] * u[2];
+        let w = [w[0] - kw * u[0], w[1] - kw * u[1], w[2] - kw * u[2]];
+        let nw = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+        let w = [w[0] / nw, w[1] / nw, w[2] / nw];
+        let k = g.u().sqrt() * impact * r;
+        let target = [m[0] + w[0] * k, m[1] + w[1] * k, m[2] + w[2] * k];
+        let d = [target[0] - o[0], target[1] - o[1], target[2] - o[2]];
+        let nd = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let d = [d[0] / nd, d[1] / nd, d[2] / nd];
+        let (o, d) = (v32(o), v32(d));
+        let s = Sphere::new(v32(m), r as f32);
+        let Some(t_ref) = reference_t(o, d, &s) else {
+            continue; // the rounded ray misses: a tangent after all
+        };
+        for (stats, t) in [
+            (
+                &mut exact,
+                Prepared::exact(o, &s).hit(d, 0.0, f32::INFINITY),
+            ),
+            (
+                &mut per_ray,
+                ray_intersect(&Ray::new(o, d), &s, 0.0, f32::INFINITY),
+            ),
+        ] {
+            match t {
+                Some(t) => stats.errs.push(ulps(t, t_ref)),
+                None => stats.misses += 1,
+            }
+        }
+    }
+    (exact, per_ray)
+}
+
+#[test]
+fn far_and_small_spheres_within_4_ulp() {
+    for (k, ratio) in [10.0, 1e2, 1e3, 1e4, 1e5].into_iter().enumerate() {
+        let (mut a, mut b) = far_set(ratio, 20_000, 0.9, 11 + k as u64);
+        println!(
+            "distance/radius {ratio:e}: exact max {:.2} median {:.2} misses {}; per-ray max {:.2} median {:.2} misses {}",
+            a.max(),
+            a.median(),
+            a.misses,
+            b.max(),
+            b.median(),
+            b.misses
+        );
+        assert_eq!(a.misses + b.misses, 0, "at {ratio:e}: missed rays that hit");
+        // The target, on both paths: per-frame constants (primary rays) and per ray.
+        assert!(
+            a.max() <= 4.0,
+            "per-frame constants at {ratio:e}: {} ulp",
+            a.max()
+        );
+        assert!(b.max() <= 4.0, "per-ray at {ratio:e}: {} ulp", b.max());
+    }
+}
+
+/// Rays from 1 unit above a ground sphere of radius R to ground points up to `reach` away.
+fn ground_set(radius: f64, n: usize, seed: u64) -> (Stats, Stats, f64, f64) {
+    let mut g = Rng(seed);
+    let (mut exact, mut per_ray) = (Stats::default(), Stats::default());
+    let (mut rel_exact, mut rel_per_ray) = (0f64, 0f64);
+    let radius = radius as f32 as f64;
+    let s = Sphere::new(Vec3::new(0.0, -radius as f32, 0.0), radius as f32);
+    for _ in 0..n {
+        let o = [
+            g.range(-10.0, 10.0),
+            1.0 + g.range(0.0, 0.01),
+            g.range(-10.0, 10.0),
+        ];
+        // towards a ground point at horizontal distance up to 30 (grazing at 1/30)
+        let dist = 30f64.powf(g.u());
+        let phi = g.range(0.0, std::f64::consts::TAU);
+        let d = [dist * phi.cos(), -o[1], dist * phi.sin()];
+        let nd = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let (o, d) = (v32(o), v32([d[0] / nd, d[1] / nd, d[2] / nd]));
+        let Some(t_ref) = reference_t(o, d, &s) else {
+            continue;
+        };
+        // the cosine of incidence at the reference hit: below 0.1 the ray grazes the ground
+        // (near the horizon) and counts for the relative error only
+        let hit = [
+            o.x as f64 + t_ref * d.x as f64,
+            o.y as f64 + t_ref * d.y as f64 + radius,
+            o.z as f64 + t_ref * d.z as f64,
+        ];
+        let cos = -(hit[0] * d.x as f64 + hit[1] * d.y as f64 + hit[2] * d.z as f64) / radius;
+        for (stats, rel, t) in [
+            (
+                &mut exact,
+                &mut rel_exact,
+                Prepared::exact(o, &s).hit(d, 0.0, f32::INFINITY),
+            ),
+            (
+                &mut per_ray,
+                &mut rel_per_ray,
+                ray_intersect(&Ray::new(o, d), &s, 0.0, f32::INFINITY),
+            ),
+        ] {
+            match t {
+                Some(t) => {
+                    if cos >= 0.1 {
+                        stats.errs.push(ulps(t, t_ref));
+                    }
+                    *rel = rel.max((t as f64 - t_ref).abs() / t_ref);
+                }
+                None => stats.misses += 1,
+            }
+        }
+    }
+    (exact, per_ray, rel_exact, rel_per_ray)
+}
+
+#[test]
+fn huge_ground_from_one_unit_above() {
+    for (k, radius) in [1e3, 1e4, 1e6].into_iter().enumerate() {
+        let (mut a, mut b, ra, rb) = ground_set(radius, 20_000, 21 + k as u64);
+        println!(
+            "ground radius {radius:e}: exact max {:.2} ulp median {:.2} rel {ra:.1e} misses {}; per-ray max {:.2} median {:.2} rel {rb:.1e} misses {}",
+            a.max(),
+            a.median(),
+            a.misses,
+            b.max(),
+            b.median(),
+            b.misses
+        );
+        assert!(
+            ra <= 1e-5 && rb <= 1e-5,
+            "radius {radius:e}: relative error {ra:e}, {rb:e}"
+        );
+        assert_eq!(a.misses + b.misses, 0);
+        // The target here is the relative error above. In ulp, rays that do not graze
+        // (cos ≥ 0.1) measure 4.6 at most (b = f·d rounds to ε |f|, and |f| ≈ R): guard at 8.
+        assert!(
+            a.max() <= 8.0 && b.max() <= 8.0,
+            "radius {radius:e}: {} / {} ulp",
+            a.max(),
+            b.max()
+        );
+    }
+}
+
+/// Centres near 10¹⁹, where |o − m|² overflows f32: a hit must be the right one, and nothing
+/// may come back NaN or infinite.
+#[test]
+fn overflowing_magnitudes_hit_right_or_miss_cleanly() {
+    let mut g = Rng(5);
+    let mut hits = 0;
+    for _ in 0..20_000 {
+        let r = 10f64.powf(g.range(17.0, 19.0));
+        let m = g.dir();
+        let m = [m[0] * 2e19, m[1] * 2e19, m[2] * 2e19];
+        let target = g.dir();
+        let k = g.u().sqrt() * 1.5 * r;
+        let d = [
+            m[0] + target[0] * k,
+            m[1] + target[1] * k,
+            m[2] + target[2] * k,
+        ];
+        let (o, d, s) = (Vec3::ZERO, v32(d), Sphere::new(v32(m), r as f32));
+        let got = ray_intersect(&Ray::new(o, d), &s, 0.0, f32::INFINITY);
+        let want = reference_t(o, d, &s);
+        match (got, want) {
+            (Some(t), Some(tr)) => {
+                assert!(t.is_finite());
+                // near-tangent rays (impact up to 1.5 r here) get a looser bound
+                assert!(ulps(t, tr) <= 64.0, "t {t} against {tr}");
+                hits += 1;
+            }
+            (None, None) => {}
+            (got, want) => {
+                // only a ray that grazes the sphere may disagree about hitting it
+                let f = [-(m[0]), -(m[1]), -(m[2])];
+                let dd = v64(d);
+                let a = dd[0] * dd[0] + dd[1] * dd[1] + dd[2] * dd[2];
+                let b = f[0] * dd[0] + f[1] * dd[1] + f[2] * dd[2];
+                let l2 = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]) - b * b / a;
+                let rr = (r as f32 as f64).powi(2);
+                assert!((l2 / rr - 1.0).abs() < 1e-5, "{got:?} against {want:?}");
+            }
+        }
+    }
+    assert!(hits > 5000);
+}
+
+/// Shadow and mirror rays leaving a surface never meet it again: 10⁶ random hits on spheres of
+/// radius 10⁻² … 10² with centres up to 10⁴ from the origin, seen from outside and inside.
+#[test]
+fn no_self_intersection_in_a_million_rays() {
+    let mut g = Rng(77);
+    let (mut self_hits, mut inner) = (0usize, 0usize);
+    let n = 1_000_000;
+    for i in 0..n {
+        let r = 10f64.powf(g.range(-2.0, 2.0));
+        let m = [g.range(-1e4, 1e4), g.range(-1e4, 1e4), g.range(-1e4, 1e4)];
+        let inside = i % 4 == 0;
+        let u = g.dir();
+        let dist = if inside {
+            g.range(0.0, 0.9) * r
+        } else {
+            r * 10f64.powf(g.range(0.1, 3.0))
+        };
+        let o = [m[0] + u[0] * dist, m[1] + u[1] * dist, m[2] + u[2] * dist];
+        let w = g.dir();
+        let k = g.u().sqrt() * 0.99 * r;
+        let target = [m[0] + w[0] * k, m[1] + w[1] * k, m[2] + w[2] * k];
+        let d = [target[0] - o[0], target[1] - o[1], target[2] - o[2]];
+        let sphere = Sphere::new(v32(m), r as f32);
+        let mut scene: Scene<1, 1> = Scene::new();
+        scene.add_sphere(sphere, Material::default()).unwrap();
+        let ray = Ray::new(v32(o), v32(d));
+        let Some(hit) = scene.find_intersection(&ray, 0.0, f32::INFINITY) else {
+            continue;
+        };
+        // Mirror ray: from outside it leaves; from inside it meets the far wall, not its start.
+        let refl = reflect(&ray, &hit);
+        match find_from(&scene, &refl, hit.sphere, hit.offset) {
+            None if !inside => {}
+            Some(h2) if inside => {
+                inner += 1;
+                let chord = h2.t as f64 * (v64(refl.dir).iter().map(|x| x * x).sum::<f64>()).sqrt();
+                // the chord of the reflected ray is 2 r |n·d| for a unit d
+                let cos = hit.normal.dot(ray.dir.normalize_fast()).abs() as f64;
+                if (chord - 2.0 * r * cos).abs() > 1e-3 * r {
+                    self_hits += 1;
+                    println!("chord {chord:e} want {:e} r {r:e}", 2.0 * r * cos);
+                }
+            }
+            other => {
+                self_hits += 1;
+                if self_hits < 5 {
+                    println!("mirror: inside {inside} r {r:e} m {m:?} hit {hit:?} -> {other:?}");
+                }
+            }
+        }
+        // Shadow rays towards random lights on the lit side of the facing normal.
+        let mut l = v32(g.dir());
+        if l.dot(hit.normal) < 0.0 {
+            l = -l;
+        }
+        let sun = Light::Directional {
+            direction: -l,
+            intensity: Color::ONE,
+        };
+        // The light 3 r away along l from the hit point (centre + offset, in f64), rounded: it is
+        // lit only if it is still above the tangent plane after rounding, by 10⁻⁴ rad at least.
+        let (mc, off) = (v64(sphere.center), v64(hit.offset));
+        let p_true = [mc[0] + off[0], mc[1] + off[1], mc[2] + off[2]];
+        let l64 = v64(l);
+        let position = v32([
+            p_true[0] + 3.0 * r * l64[0],
+            p_true[1] + 3.0 * r * l64[1],
+            p_true[2] + 3.0 * r * l64[2],
+        ]);
+        let to = [
+            position.x as f64 - p_true[0],
+            position.y as f64 - p_true[1],
+            position.z as f64 - p_true[2],
+        ];
+        let n = v64(hit.normal);
+        let above = (to[0] * n[0] + to[1] * n[1] + to[2] * n[2])
+            / (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).sqrt();
+        let bulb = Light::Point {
+            position,
+            intensity: Color::ONE,
+        };
+        if !inside {
+            let a = in_shadow(&scene, &hit, &sun, None);
+            let b = above > 1e-4 && in_shadow(&scene, &hit, &bulb, None);
+            if a || b {
+                println!(
+                    "shadow {a} {b}: r {r:e} hit {hit:?} l {l:?} n.l {}",
+                    l.dot(hit.normal)
+                );
+            }
+            self_hits += a as usize + b as usize;
+        }
+        // And the raw exit root of a ray heading out is never a hit.
+        if !inside && exit_root(hit.offset, l).is_some() && l.dot(hit.offset) > 1e-3 * r as f32 {
+            self_hits += 1;
+        }
+    }
+    println!("{n} hits, {inner} from inside: {self_hits} self-hits");
+    assert_eq!(self_hits, 0);
+}
+
+/// A ball resting on a sphere, a light straight above: the ground is dark right up to the
+/// contact point and lit just outside the ball's shadow, at every scale and far from the origin.
+#[test]
+fn contact_shadows_are_kept() {
+    use microray::Hit;
+    let mut checked = 0;
+    for big in [1.0f64, 1e3, 1e6] {
+        for small in [1e-2f64, 1.0] {
+            for shift in [0.0f64, 1e4] {
+                let base = [shift, shift, -shift];
+                let ground = Sphere::new(v32([base[0], base[1] - big, base[2]]), big as f32);
+                let ball = Sphere::new(v32([base[0], base[1] + small, base[2]]), small as f32);
+                let mut scene: Scene<2, 2> = Scene::new();
+                scene.add_sphere(ground, Material::default()).unwrap();
+                scene.add_sphere(ball, Material::default()).unwrap();
+                let sun = Light::Directional {
+                    direction: Vec3::new(0.0, -1.0, 0.0),
+                    intensity: Color::ONE,
+                };
+                let bulb = Light::Point {
+                    position: v32([base[0], base[1] + 1e3 * small, base[2]]),
+                    intensity: Color::ONE,
+                };
+                for rho in [1e-4, 1e-2, 0.3, 0.9, 0.98, 1.02, 1.5] {
+                    // the ground point at rho ball radii from the contact, as the tracer would
+                    // record it: offset from the ground's centre and the rounded point
+                    let x = rho * small / 2f64.sqrt();
+                    let gc = v64(ground.center);
+                    let off = [x, (big * big - 2.0 * x * x).sqrt(), x];
+                    let point = [gc[0] + off[0], gc[1] + off[1], gc[2] + off[2]];
+                    let hit = Hit {
+                        t: 1.0,
+                        sphere: 0,
+                        point: v32(point),
+                        normal: v32([off[0] / big, off[1] / big, off[2] / big]),
+                        offset: v32(off),
+                    };
+                    // The hit point is known to half an ulp of the smaller of its coordinates
+                    // and its offset: closer than 4 ulp to the shadow's edge f32 cannot tell.
+                    let p32 = v32(point);
+                    let known =
+                        4.0 * common::reference::ulp32(p32.max_abs().min(big as f32) as f64);
+                    for light in [&sun, &bulb] {
+                        let got = in_shadow(&scene, &hit, light, None);
+                        if rho < 1.0 || (rho - 1.0) * small > known {
+                            assert_eq!(
+                                got,
+                                rho < 1.0,
+                                "ground {big}, ball {small}, shift {shift}, rho {rho}, {light:?}"
+                            );
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    println!("{checked} contact-shadow checks");
+    assert!(checked >= 3 * 2 * 2 * 6 * 2);
+}
+
+/// Random rays and spheres over every magnitude from 10⁻³⁰ to 10³⁰ (positions, directions and
+/// radii independently): a hit is always finite and inside the interval asked for, whatever
+/// overflows or underflows on the way, on both intersection paths, from a surface, and for the
+/// exit root.
+#[test]
+fn extreme_magnitudes_never_give_a_non_finite_hit() {
+    let mut g = Rng(31);
+    let mag = |g: &mut Rng| {
+        let s = if g.u() < 0.5 { -1.0 } else { 1.0 };
+        s * 10f64.powf(g.range(-30.0, 30.0))
+    };
+    let (mut hits, mut n) = (0, 0);
+    for _ in 0..200_000 {
+        let o = v32([mag(&mut g), mag(&mut g), mag(&mut g)]);
+        let d = v32([mag(&mut g), mag(&mut g), mag(&mut g)]);
+        let m = v32([mag(&mut g), mag(&mut g), mag(&mut g)]);
+        let r = 10f64.powf(g.range(-30.0, 30.0)) as f32;
+        let s = Sphere::new(m, r);
+        let (tmin, tmax) = if g.u() < 0.5 {
+            (0.0, f32::INFINITY)
+        } else {
+            (1e-3, 1e3)
+        };
+        for t in [
+            ray_intersect(&Ray::new(o, d), &s, tmin, tmax),
+            Prepared::exact(o, &s).hit(d, tmin, tmax),
+            Prepared::leaving(o, m, o - m, &s).hit(d, tmin, tmax),
+            // the exit root knows no interval: clip it like the others
+            exit_root(o - m, d).filter(|&t| t >= tmin && t <= tmax),
+        ] {
+            n += 1;
+            if let Some(t) = t {
+                hits += 1;
+                assert!(t.is_finite(), "t {t} for {o:?} {d:?} {s:?}");
+                assert!(
+                    t.is_finite() && t >= tmin && t <= tmax,
+                    "t {t} for {o:?} {d:?} {s:?}"
+                );
+            }
+        }
+    }
+    println!("{n} queries, {hits} hits");
+    assert!(hits > 100, "the test must exercise hits too");
+}
