@@ -1,13 +1,39 @@
 //! Rendering: per-frame constants, the pixel loop, supersampling and pixel encoding.
+//!
+//! # How a frame is traced fast
+//!
+//! [`Frame::new`] computes what all rays of the frame share: for the eye and every point light
+//! (when shadows are on), `o − m` and `|o − m|² − r²` of every sphere ([`Prepared::exact`]),
+//! and for every sphere its exact, conservative screen-space box ([`crate::raster`]).
+//! [`Frame::render_rows`] then walks each row in spans of [`SPAN`] pixels:
+//!
+//! 1. the row's spheres are those whose box crosses it, the span's those whose box overlaps
+//!    the span, in scene order; a primary ray tests only the span's spheres whose box holds
+//!    its pixel;
+//! 2. with shadows on, the span's primary hit points are traced first and bounded by a ball;
+//!    each light keeps, for this span, only the spheres that can meet a shadow ray from that
+//!    ball (for a point light: the cone hull of the light and the ball; for a directional
+//!    light: the ball swept along the light); shadow rays stop at the first blocker;
+//! 3. the pixels are shaded with those lists.
+//!
+//! Every list is a superset of the spheres the full test could report, and the tests
+//! themselves are the brute-force ones, in the same order where order matters (the closest
+//! hit keeps the last of equal `t`s): the pixels are the brute-force pixels, bit for bit
+//! ([`Frame::render_rows_brute`] is kept as the reference). Mirror rays, which leave from
+//! anywhere, are traced against every sphere.
+//!
+//! A scene pays only for what it has: without lights or shadows, step 2 is skipped; no
+//! specular or mirror work is done for materials without them.
 
 use embedded_graphics::pixelcolor::Rgb888;
 
 use crate::camera::Camera;
 use crate::error::Error;
 use crate::geometry::{Prepared, Ray};
-use crate::math::{powf, Color};
+use crate::math::{powf, Color, Vec3};
+use crate::raster::{PixelBox, Screen, ETA};
 use crate::scene::{make_hit, Hit, Light, Scene};
-use crate::shading::{follow, in_shadow, shade_local, T_EPS};
+use crate::shading::{follow, in_shadow, in_shadow_among, shade_local, T_EPS};
 
 /// How linear colour becomes a byte.
 ///
@@ -83,8 +109,12 @@ pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
     (255.0 * e + 0.5) as u8
 }
 
+/// Pixels per span: the unit for which the renderer gathers candidate spheres.
+pub const SPAN: usize = 32;
+
 /// A scene, a camera and options, with everything that all rays of the frame share computed
-/// once: `o − m` and `|o − m|² − r²` of every sphere for the eye and for every point light.
+/// once: `o − m` and `|o − m|² − r²` of every sphere for the eye and for every point light,
+/// and every sphere's box on the screen.
 ///
 /// Build it once, then render the whole image, bands of rows, single pixels, or draw onto an
 /// embedded-graphics display.
@@ -113,10 +143,19 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     samples: u32,
     encoding: Encoding,
     eye: heapless::Vec<Prepared, S>,
+    boxes: heapless::Vec<PixelBox, S>,
     lights: [heapless::Vec<Prepared, S>; L],
+    /// Shadows on and at least one light: the only case that casts shadow rays.
+    shadow_rays: bool,
 }
 
+/// Sphere indices: a row's, a span's or a light's candidates.
+type List<const S: usize> = heapless::Vec<u16, S>;
+
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
+    /// Sphere indices are stored as `u16`.
+    const FITS: () = assert!(S <= u16::MAX as usize + 1, "sphere capacity above 65536");
+
     /// Prepares a frame; fails only for invalid options (`samples` outside 1..=16).
     ///
     /// ```
@@ -132,6 +171,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         camera: &'a Camera,
         options: RenderOptions,
     ) -> Result<Self, Error> {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::FITS;
         if !(1..=16).contains(&options.samples) {
             return Err(Error::InvalidSamples);
         }
@@ -144,6 +185,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             v
         };
         let eye = prepare(camera.eye());
+        let screen = Screen::new(camera);
+        let mut boxes = heapless::Vec::new();
+        for k in &eye {
+            let _ = boxes.push(screen.sphere_box(k));
+        }
         let lights = core::array::from_fn(|i| match scene.lights().get(i) {
             Some(Light::Point { position, .. }) if scene.shadows() => prepare(*position),
             _ => heapless::Vec::new(),
@@ -154,7 +200,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             samples: options.samples as u32,
             encoding: options.encoding,
             eye,
+            boxes,
             lights,
+            shadow_rays: scene.shadows() && !scene.lights().is_empty(),
         })
     }
 
@@ -186,24 +234,101 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         self.camera.height()
     }
 
-    /// The closest hit of a primary ray (one that starts at the eye).
+    /// The screen box of every sphere, in scene order: a primary ray through pixel `(i, j)`
+    /// can hit sphere `s` only if `boxes()[s]` contains `(i, j)`.
+    ///
+    /// ```
+    /// # use microray::{Camera, Frame, Material, RenderOptions, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<2, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::ZERO, 0.5), Material::default())?;
+    /// scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, 9.0), 1.0), Material::default())?; // behind
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 64, 64)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let b = frame.boxes()[0];
+    /// assert!(b.contains(32, 32) && !b.contains(0, 0));
+    /// assert!(frame.boxes()[1].is_empty());
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn boxes(&self) -> &[PixelBox] {
+        &self.boxes
+    }
+
+    /// The closest hit of a primary ray (one that starts at the eye), against every sphere.
     #[inline]
     fn primary_hit(&self, ray: &Ray) -> Option<Hit> {
-        let mut best: Option<(f32, usize)> = None;
+        let mut best: Option<(f32, usize, &Prepared)> = None;
         let mut tmax = f32::INFINITY;
         for (i, k) in self.eye.iter().enumerate() {
             if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
                 tmax = t;
-                best = Some((t, i));
+                best = Some((t, i, k));
             }
         }
-        best.map(|(t, i)| {
-            let k = &self.eye[i];
-            make_hit(ray, t, i, k.f, k.r)
+        let (t, i, k) = best?;
+        Some(make_hit(ray, t, i, k.f, k.r))
+    }
+
+    /// The closest hit of the primary ray through column `i`, against the spheres of `cands`
+    /// (in scene order) whose box holds that column (the row is the caller's).
+    #[inline]
+    fn primary_hit_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<Hit> {
+        let mut best: Option<(f32, usize, &Prepared)> = None;
+        let mut tmax = f32::INFINITY;
+        for &s in cands {
+            let s = s as usize;
+            let (Some(b), Some(k)) = (self.boxes.get(s), self.eye.get(s)) else {
+                continue;
+            };
+            if i < b.i0 as u32 || i > b.i1 as u32 {
+                continue;
+            }
+            if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
+                tmax = t;
+                best = Some((t, s, k));
+            }
+        }
+        let (t, s, k) = best?;
+        Some(make_hit(ray, t, s, k.f, k.r))
+    }
+
+    /// The per-light constants of light `i` (empty unless it is a point light with shadows).
+    #[inline]
+    fn light_consts(&self, i: usize, light: &Light) -> Option<&[Prepared]> {
+        match light {
+            Light::Point { .. } => self.lights.get(i).map(|v| &v[..]),
+            Light::Directional { .. } => None,
+        }
+    }
+
+    /// Shades a primary hit (and its mirror bounces): `shadow`, when given, holds per light
+    /// the spheres that can block shadow rays from this primary hit; mirror hits and a
+    /// missing `shadow` test every sphere.
+    #[inline]
+    fn shade_from(&self, ray: &Ray, first: Option<Hit>, shadow: Option<&[List<S>; L]>) -> Color {
+        let scene = self.scene;
+        let mut primary = true;
+        follow(scene, ray, first, |hit, ray| {
+            let lists = if core::mem::replace(&mut primary, false) {
+                shadow
+            } else {
+                None
+            };
+            shade_local(scene, hit, ray.dir, |i| {
+                // `get`, not `[i]`: no bounds-check panic linked into the render path.
+                scene.shadows()
+                    && scene.lights().get(i).is_some_and(|light| {
+                        let consts = self.light_consts(i, light);
+                        match lists.and_then(|l| l.get(i)) {
+                            Some(cands) => in_shadow_among(scene, hit, light, consts, cands),
+                            None => in_shadow(scene, hit, light, consts),
+                        }
+                    })
+            })
         })
     }
 
-    /// The linear colour seen along a primary ray from the eye.
+    /// The linear colour seen along a primary ray from the eye, tested against every sphere:
+    /// the brute-force reference of the renderer (it takes any ray, so no screen box applies).
     ///
     /// ```
     /// # use microray::{Camera, Color, Frame, RenderOptions, Scene, Vec3};
@@ -215,25 +340,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn trace(&self, ray: &Ray) -> Color {
-        let scene = self.scene;
-        let first = self.primary_hit(ray);
-        follow(scene, ray, first, |hit, ray| {
-            shade_local(scene, hit, ray.dir, |i| {
-                scene.shadows()
-                    && in_shadow(
-                        scene,
-                        hit,
-                        &scene.lights()[i],
-                        match scene.lights()[i] {
-                            Light::Point { .. } => Some(&self.lights[i]),
-                            Light::Directional { .. } => None,
-                        },
-                    )
-            })
-        })
+        self.shade_from(ray, self.primary_hit(ray), None)
     }
 
     /// The linear colour of pixel `(i, j)`: the average of its `samples²` rays, unclamped.
+    /// Primary rays test only the spheres whose screen box holds the pixel; shadow rays test
+    /// every sphere (use [`Frame::render_rows`] for whole rows, which culls those too).
     ///
     /// ```
     /// # use microray::{Camera, Color, Frame, RenderOptions, Scene, Vec3};
@@ -245,17 +357,58 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn pixel_color(&self, i: u32, j: u32) -> Color {
+        let mut cands: List<S> = heapless::Vec::new();
+        for (s, b) in self.boxes.iter().enumerate() {
+            if b.contains(i, j) {
+                let _ = cands.push(s as u16);
+            }
+        }
+        self.average(i, j, |ray| {
+            self.shade_from(ray, self.primary_hit_among(ray, i, &cands), None)
+        })
+    }
+
+    /// [`Frame::pixel_color`] the brute-force way: every ray against every sphere. The
+    /// reference that the accelerated paths must equal bit for bit.
+    ///
+    /// ```
+    /// # use microray::{Camera, Color, Frame, Material, RenderOptions, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// assert_eq!(frame.pixel_color_brute(4, 4), frame.pixel_color(4, 4));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn pixel_color_brute(&self, i: u32, j: u32) -> Color {
+        self.average(i, j, |ray| self.trace(ray))
+    }
+
+    /// The average over the pixel's `samples²` rays of `f(ray)`.
+    #[inline]
+    fn average(&self, i: u32, j: u32, mut f: impl FnMut(&Ray) -> Color) -> Color {
         let n = self.samples;
         if n == 1 {
-            return self.trace(&self.camera.view_ray(i, j, 0, 0, 1));
+            return f(&self.camera.view_ray(i, j, 0, 0, 1));
         }
         let mut sum = Color::ZERO;
         for sy in 0..n {
             for sx in 0..n {
-                sum += self.trace(&self.camera.view_ray(i, j, sx, sy, n));
+                sum += f(&self.camera.view_ray(i, j, sx, sy, n));
             }
         }
         sum / (n * n) as f32
+    }
+
+    /// A linear colour encoded as a pixel.
+    #[inline]
+    fn encode(&self, c: Color) -> Rgb888 {
+        let e = self.encoding;
+        Rgb888::new(
+            encode_channel(c.x, e),
+            encode_channel(c.y, e),
+            encode_channel(c.z, e),
+        )
     }
 
     /// The encoded colour of pixel `(i, j)` (row 0 at the top).
@@ -271,13 +424,45 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn pixel(&self, i: u32, j: u32) -> Rgb888 {
-        let c = self.pixel_color(i, j);
-        let e = self.encoding;
-        Rgb888::new(
-            encode_channel(c.x, e),
-            encode_channel(c.y, e),
-            encode_channel(c.z, e),
-        )
+        self.encode(self.pixel_color(i, j))
+    }
+
+    /// The pixels of row `j`, left to right, traced span by span with every culling of
+    /// [`Frame::render_rows`] (which uses it); for displays that consume a row as an iterator.
+    /// Rows past the image yield nothing.
+    ///
+    /// ```
+    /// # use embedded_graphics::pixelcolor::Rgb888;
+    /// # use microray::{Camera, Color, Frame, RenderOptions, Scene, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.set_background(Color::new(1.0, 0.5, 0.0))?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// assert!(frame.row(1).all(|p| p == Rgb888::new(255, 128, 0)));
+    /// assert_eq!(frame.row(1).count(), 4);
+    /// assert_eq!(frame.row(4).count(), 0);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn row(&self, j: u32) -> Row<'_, 'a, S, L> {
+        let mut list = heapless::Vec::new();
+        if j < self.height() {
+            for (s, b) in self.boxes.iter().enumerate() {
+                if b.has_row(j) {
+                    let _ = list.push(s as u16);
+                }
+            }
+        }
+        Row {
+            frame: self,
+            j,
+            i: 0,
+            end: if j < self.height() { self.width() } else { 0 },
+            span_end: 0,
+            row: list,
+            span: heapless::Vec::new(),
+            shadow: core::array::from_fn(|_| heapless::Vec::new()),
+            culled: false,
+        }
     }
 
     /// Renders rows `first_row ..` into `buf`, which holds a whole number of rows; returns how
@@ -305,16 +490,56 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         first_row: u32,
         buf: &mut [C],
     ) -> Result<u32, Error> {
+        let rows = self.check_rows(first_row, buf.len())?;
         let w = self.width() as usize;
-        let rows = buf.len() / w;
-        if buf.len() % w != 0 || first_row as usize + rows > self.height() as usize {
-            return Err(Error::BufferSize);
+        for (r, row) in buf.chunks_exact_mut(w).enumerate() {
+            for (px, c) in row.iter_mut().zip(self.row(first_row + r as u32)) {
+                *px = c.into();
+            }
         }
+        Ok(rows)
+    }
+
+    /// [`Frame::render_rows`] the brute-force way, every ray against every sphere: the
+    /// reference for tests and benchmarks.
+    ///
+    /// ```
+    /// # use embedded_graphics::pixelcolor::Rgb888;
+    /// # use microray::{Camera, Frame, Material, RenderOptions, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let (mut a, mut b) = ([Rgb888::new(0, 0, 0); 64], [Rgb888::new(0, 0, 0); 64]);
+    /// frame.render_rows(0, &mut a)?;
+    /// frame.render_rows_brute(0, &mut b)?;
+    /// assert_eq!(a, b);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn render_rows_brute<C: From<Rgb888>>(
+        &self,
+        first_row: u32,
+        buf: &mut [C],
+    ) -> Result<u32, Error> {
+        let rows = self.check_rows(first_row, buf.len())?;
+        let w = self.width() as usize;
         for (r, row) in buf.chunks_exact_mut(w).enumerate() {
             let j = first_row + r as u32;
             for (i, px) in row.iter_mut().enumerate() {
-                *px = self.pixel(i as u32, j).into();
+                *px = self.encode(self.pixel_color_brute(i as u32, j)).into();
             }
+        }
+        Ok(rows)
+    }
+
+    /// How many rows a buffer of `len` pixels holds, if whole rows inside the image.
+    fn check_rows(&self, first_row: u32, len: usize) -> Result<u32, Error> {
+        let w = self.width() as usize; // ≥ 1 (Camera checks); checked_div links no panic
+        let (Some(rows), Some(0)) = (len.checked_div(w), len.checked_rem(w)) else {
+            return Err(Error::BufferSize);
+        };
+        if first_row as usize + rows > self.height() as usize {
+            return Err(Error::BufferSize);
         }
         Ok(rows as u32)
     }
@@ -336,5 +561,173 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             return Err(Error::BufferSize);
         }
         self.render_rows(0, buf).map(|_| ())
+    }
+
+    /// Gathers span `[i0, i1)` of row `j`: its spheres from the row's, then (with shadow rays)
+    /// the bounding ball of its primary hit points and each light's possible blockers.
+    fn gather(
+        &self,
+        j: u32,
+        i0: u32,
+        i1: u32,
+        row: &[u16],
+        span: &mut List<S>,
+        shadow: &mut [List<S>; L],
+    ) -> bool {
+        span.clear();
+        for &s in row {
+            if let Some(b) = self.boxes.get(s as usize) {
+                if (b.i0 as u32) < i1 && b.i1 as u32 >= i0 {
+                    let _ = span.push(s);
+                }
+            }
+        }
+        if !self.shadow_rays {
+            return false;
+        }
+        // The box of the span's primary hit points.
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        let mut any = false;
+        for i in i0..i1 {
+            let _ = self.average(i, j, |ray| {
+                if let Some(h) = self.primary_hit_among(ray, i, span) {
+                    let p = h.point;
+                    lo = Vec3::new(lo.x.min(p.x), lo.y.min(p.y), lo.z.min(p.z));
+                    hi = Vec3::new(hi.x.max(p.x), hi.y.max(p.y), hi.z.max(p.z));
+                    any = true;
+                }
+                Color::ZERO
+            });
+        }
+        if !any {
+            for l in shadow.iter_mut() {
+                l.clear();
+            }
+            return true;
+        }
+        let q = (lo + hi) * 0.5;
+        let half = (hi - lo) * 0.5;
+        // Rounding of q and of the length: a relative pad far above it.
+        let rho = half.length() * (1.0 + 1e-5) + 1e-5 * q.max_abs() + f32::MIN_POSITIVE;
+        if !(rho.is_finite() && q.is_finite()) {
+            // Nothing to bound with: every sphere stays a candidate.
+            for l in shadow.iter_mut() {
+                l.clear();
+                for s in 0..self.eye.len() {
+                    let _ = l.push(s as u16);
+                }
+            }
+            return true;
+        }
+        for (li, list) in shadow.iter_mut().enumerate() {
+            list.clear();
+            let Some(light) = self.scene.lights().get(li) else {
+                continue;
+            };
+            for (s, sphere) in self.scene.spheres().iter().enumerate() {
+                if may_block(light, sphere.center, sphere.radius, q, rho) {
+                    let _ = list.push(s as u16);
+                }
+            }
+        }
+        true
+    }
+}
+
+/// Whether a sphere (centre `m`, radius `r`) can block a shadow ray towards `light` from some
+/// point of the ball `(q, rho)`: a conservative test, padded well beyond the rounding of the
+/// shadow test itself and of this one.
+#[inline]
+fn may_block(light: &Light, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
+    match *light {
+        Light::Point { position, .. } => {
+            // Shadow rays run from the light to points of the ball: the segments fill the
+            // cone hull of the light and the ball, whose section at λ ∈ [0, 1] along
+            // v = q − light is the ball (light + λ v, λ ρ). The sphere misses it iff
+            // g(λ) = |w − λ v|² − (R + λ ρ)² > 0 on [0, 1], w = m − light.
+            let w = m - position;
+            let v = q - position;
+            let big = r * (1.0 + 2e-4) + 2.0 * ETA * (w.length() + r);
+            let (ww, vv, wv) = (w.dot(w), v.dot(v), w.dot(v));
+            let a = vv - rho * rho;
+            let b = wv + big * rho;
+            let g0 = ww - big * big;
+            let g1 = a - 2.0 * b + g0;
+            let mut gmin = if g0 < g1 { g0 } else { g1 };
+            if a > 0.0 && b > 0.0 && b < a {
+                let gv = g0 - b * (b / a);
+                if gv < gmin {
+                    gmin = gv;
+                }
+            }
+            let tol = 1e-5 * (ww + vv + big * big + rho * rho);
+            !(gmin > tol)
+        }
+        Light::Directional { direction, .. } => {
+            // Shadow rays leave points of the ball along l = −direction: the sphere misses
+            // them iff it stays farther than R + ρ from the half-line q + t l, t ≥ 0.
+            let l = -direction;
+            let w = m - q;
+            let s = w.dot(l);
+            let e = if s > 0.0 { w - l * s } else { w };
+            let big = r * (1.0 + 2e-4) + 2.0 * ETA * (w.length() + rho + r) + rho;
+            let d2 = e.dot(e);
+            let tol = 1e-5 * (w.dot(w) + big * big);
+            !(d2 - big * big > tol)
+        }
+    }
+}
+
+/// The pixels of one row, traced span by span (see [`Frame::row`]).
+#[derive(Debug)]
+pub struct Row<'f, 'a, const S: usize, const L: usize> {
+    frame: &'f Frame<'a, S, L>,
+    j: u32,
+    i: u32,
+    end: u32,
+    span_end: u32,
+    row: List<S>,
+    span: List<S>,
+    shadow: [List<S>; L],
+    culled: bool,
+}
+
+impl<const S: usize, const L: usize> Iterator for Row<'_, '_, S, L> {
+    type Item = Rgb888;
+
+    #[inline]
+    fn next(&mut self) -> Option<Rgb888> {
+        if self.i >= self.end {
+            return None;
+        }
+        let f = self.frame;
+        let i = self.i;
+        if i >= self.span_end {
+            self.span_end = (i + SPAN as u32).min(self.end);
+            self.culled = f.gather(
+                self.j,
+                i,
+                self.span_end,
+                &self.row,
+                &mut self.span,
+                &mut self.shadow,
+            );
+        }
+        let shadow = if self.culled {
+            Some(&self.shadow)
+        } else {
+            None
+        };
+        let c = f.average(i, self.j, |ray| {
+            f.shade_from(ray, f.primary_hit_among(ray, i, &self.span), shadow)
+        });
+        self.i += 1;
+        Some(f.encode(c))
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let n = (self.end - self.i) as usize;
+        (n, Some(n))
     }
 }
