@@ -110,7 +110,7 @@ pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
 }
 
 /// Pixels per span: the unit for which the renderer gathers candidate spheres.
-pub const SPAN: usize = 32;
+pub const SPAN: usize = 8;
 
 /// A scene, a camera and options, with everything that all rays of the frame share computed
 /// once: `o − m` and `|o − m|² − r²` of every sphere for the eye and for every point light,
@@ -304,7 +304,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// the spheres that can block shadow rays from this primary hit; mirror hits and a
     /// missing `shadow` test every sphere.
     #[inline]
-    fn shade_from(&self, ray: &Ray, first: Option<Hit>, shadow: Option<&[List<S>; L]>) -> Color {
+    fn shade_from(&self, ray: &Ray, first: Option<Hit>, shadow: Option<&Cull<S, L>>) -> Color {
         let scene = self.scene;
         let mut primary = true;
         follow(scene, ray, first, |hit, ray| {
@@ -318,7 +318,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 scene.shadows()
                     && scene.lights().get(i).is_some_and(|light| {
                         let consts = self.light_consts(i, light);
-                        match lists.and_then(|l| l.get(i)) {
+                        match lists.and_then(|l| l.light(i)) {
                             Some(cands) => in_shadow_among(scene, hit, light, consts, cands),
                             None => in_shadow(scene, hit, light, consts),
                         }
@@ -428,8 +428,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// The pixels of row `j`, left to right, traced span by span with every culling of
-    /// [`Frame::render_rows`] (which uses it); for displays that consume a row as an iterator.
-    /// Rows past the image yield nothing.
+    /// [`Frame::render_rows`]; for displays that consume a row as an iterator. Rows past the
+    /// image yield nothing.
     ///
     /// ```
     /// # use embedded_graphics::pixelcolor::Rgb888;
@@ -444,25 +444,52 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn row(&self, j: u32) -> Row<'_, 'a, S, L> {
-        let mut list = heapless::Vec::new();
-        if j < self.height() {
-            for (s, b) in self.boxes.iter().enumerate() {
-                if b.has_row(j) {
-                    let _ = list.push(s as u16);
-                }
-            }
-        }
+        let mut cull = Cull::new();
+        let end = if j < self.height() {
+            self.start_row(j, &mut cull);
+            self.width()
+        } else {
+            0
+        };
         Row {
             frame: self,
             j,
             i: 0,
-            end: if j < self.height() { self.width() } else { 0 },
-            span_end: 0,
-            row: list,
-            span: heapless::Vec::new(),
-            shadow: core::array::from_fn(|_| heapless::Vec::new()),
-            culled: false,
+            end,
+            cull,
         }
+    }
+
+    /// Starts row `j`: its spheres are those whose box crosses it, in scene order.
+    fn start_row(&self, j: u32, cull: &mut Cull<S, L>) {
+        cull.row.clear();
+        for (s, b) in self.boxes.iter().enumerate() {
+            if b.has_row(j) {
+                let _ = cull.row.push(s as u16);
+            }
+        }
+        cull.span_end = 0;
+    }
+
+    /// The pixel `(i, j)` of a row started with [`Frame::start_row`], pixels taken in order.
+    #[inline]
+    fn next_pixel(&self, j: u32, i: u32, cull: &mut Cull<S, L>) -> Rgb888 {
+        if i >= cull.span_end {
+            cull.span_start = i;
+            cull.span_end = (i + SPAN as u32).min(self.width());
+            self.gather(j, cull);
+        }
+        let shadow = if cull.culled { Some(&*cull) } else { None };
+        let c = if cull.stored {
+            let k = (i - cull.span_start) as usize;
+            let first = cull.hits.get(k).copied().flatten();
+            self.shade_from(&self.camera.view_ray(i, j, 0, 0, 1), first, shadow)
+        } else {
+            self.average(i, j, |ray| {
+                self.shade_from(ray, self.primary_hit_among(ray, i, &cull.span), shadow)
+            })
+        };
+        self.encode(c)
     }
 
     /// Renders rows `first_row ..` into `buf`, which holds a whole number of rows; returns how
@@ -492,9 +519,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     ) -> Result<u32, Error> {
         let rows = self.check_rows(first_row, buf.len())?;
         let w = self.width() as usize;
+        // One set of lists for the whole band, reset row by row.
+        let mut cull = Cull::new();
         for (r, row) in buf.chunks_exact_mut(w).enumerate() {
-            for (px, c) in row.iter_mut().zip(self.row(first_row + r as u32)) {
-                *px = c.into();
+            let j = first_row + r as u32;
+            self.start_row(j, &mut cull);
+            for (i, px) in row.iter_mut().enumerate() {
+                *px = self.next_pixel(j, i as u32, &mut cull).into();
             }
         }
         Ok(rows)
@@ -563,75 +594,92 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         self.render_rows(0, buf).map(|_| ())
     }
 
-    /// Gathers span `[i0, i1)` of row `j`: its spheres from the row's, then (with shadow rays)
-    /// the bounding ball of its primary hit points and each light's possible blockers.
-    fn gather(
-        &self,
-        j: u32,
-        i0: u32,
-        i1: u32,
-        row: &[u16],
-        span: &mut List<S>,
-        shadow: &mut [List<S>; L],
-    ) -> bool {
-        span.clear();
-        for &s in row {
+    /// Gathers the span `[span_start, span_end)` of row `j`: its spheres from the row's, then
+    /// (with shadow rays) its primary hits, the ball bounding their points, and each light's
+    /// possible blockers.
+    fn gather(&self, j: u32, cull: &mut Cull<S, L>) {
+        let (i0, i1) = (cull.span_start, cull.span_end);
+        cull.span.clear();
+        for &s in &cull.row {
             if let Some(b) = self.boxes.get(s as usize) {
                 if (b.i0 as u32) < i1 && b.i1 as u32 >= i0 {
-                    let _ = span.push(s);
+                    let _ = cull.span.push(s);
                 }
             }
         }
+        cull.culled = false;
+        cull.stored = false;
         if !self.shadow_rays {
-            return false;
+            return;
         }
-        // The box of the span's primary hit points.
+        // The span's primary hits (kept for shading when one sample per pixel) and the box
+        // of their points.
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        let mut any = false;
-        for i in i0..i1 {
-            let _ = self.average(i, j, |ray| {
-                if let Some(h) = self.primary_hit_among(ray, i, span) {
-                    let p = h.point;
-                    lo = Vec3::new(lo.x.min(p.x), lo.y.min(p.y), lo.z.min(p.z));
-                    hi = Vec3::new(hi.x.max(p.x), hi.y.max(p.y), hi.z.max(p.z));
-                    any = true;
+        let mut extend = |h: &Hit| {
+            let p = h.point;
+            lo = Vec3::new(lo.x.min(p.x), lo.y.min(p.y), lo.z.min(p.z));
+            hi = Vec3::new(hi.x.max(p.x), hi.y.max(p.y), hi.z.max(p.z));
+        };
+        if self.samples == 1 {
+            for (k, i) in (i0..i1).enumerate() {
+                let ray = self.camera.view_ray(i, j, 0, 0, 1);
+                let h = self.primary_hit_among(&ray, i, &cull.span);
+                if let Some(h) = &h {
+                    extend(h);
                 }
-                Color::ZERO
-            });
-        }
-        if !any {
-            for l in shadow.iter_mut() {
-                l.clear();
+                if let Some(slot) = cull.hits.get_mut(k) {
+                    *slot = h;
+                }
             }
-            return true;
+            cull.stored = true;
+        } else {
+            for i in i0..i1 {
+                let _ = self.average(i, j, |ray| {
+                    if let Some(h) = self.primary_hit_among(ray, i, &cull.span) {
+                        extend(&h);
+                    }
+                    Color::ZERO
+                });
+            }
+        }
+        cull.culled = true;
+        cull.pool.clear();
+        if !(lo.x <= hi.x) {
+            // No hit: nothing is shaded, the lists stay empty.
+            cull.ranges = [Some((0, 0)); L];
+            return;
         }
         let q = (lo + hi) * 0.5;
         let half = (hi - lo) * 0.5;
         // Rounding of q and of the length: a relative pad far above it.
         let rho = half.length() * (1.0 + 1e-5) + 1e-5 * q.max_abs() + f32::MIN_POSITIVE;
-        if !(rho.is_finite() && q.is_finite()) {
-            // Nothing to bound with: every sphere stays a candidate.
-            for l in shadow.iter_mut() {
-                l.clear();
-                for s in 0..self.eye.len() {
-                    let _ = l.push(s as u16);
-                }
-            }
-            return true;
-        }
-        for (li, list) in shadow.iter_mut().enumerate() {
-            list.clear();
+        let bounded = rho.is_finite() && q.is_finite();
+        for (li, range) in cull.ranges.iter_mut().enumerate() {
+            *range = None;
             let Some(light) = self.scene.lights().get(li) else {
                 continue;
             };
+            if !bounded {
+                continue;
+            }
+            let start = cull.pool.len() as u32;
+            let mut full = false;
             for (s, sphere) in self.scene.spheres().iter().enumerate() {
-                if may_block(light, sphere.center, sphere.radius, q, rho) {
-                    let _ = list.push(s as u16);
+                if may_block(light, sphere.center, sphere.radius, q, rho)
+                    && cull.pool.push(s as u16).is_err()
+                {
+                    full = true;
+                    break;
                 }
             }
+            if full {
+                // Out of room: this light tests every sphere in this span.
+                cull.pool.truncate(start as usize);
+            } else {
+                *range = Some((start, cull.pool.len() as u32));
+            }
         }
-        true
     }
 }
 
@@ -679,6 +727,48 @@ fn may_block(light: &Light, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
     }
 }
 
+/// The candidate lists of the span being traced: the row's spheres, the span's, and for each
+/// light the spheres that can block its shadow rays from the span's primary hits (all kept in
+/// one pool of `S` indices; a light that does not fit tests every sphere).
+#[derive(Debug)]
+struct Cull<const S: usize, const L: usize> {
+    row: List<S>,
+    span: List<S>,
+    pool: List<S>,
+    /// Per light, its slice of `pool`; `None`: test every sphere.
+    ranges: [Option<(u32, u32)>; L],
+    span_start: u32,
+    span_end: u32,
+    /// Shadow lists are valid for this span.
+    culled: bool,
+    /// `hits` holds the span's primary hits (one sample per pixel).
+    stored: bool,
+    hits: [Option<Hit>; SPAN],
+}
+
+impl<const S: usize, const L: usize> Cull<S, L> {
+    fn new() -> Self {
+        Cull {
+            row: heapless::Vec::new(),
+            span: heapless::Vec::new(),
+            pool: heapless::Vec::new(),
+            ranges: [None; L],
+            span_start: 0,
+            span_end: 0,
+            culled: false,
+            stored: false,
+            hits: [None; SPAN],
+        }
+    }
+
+    /// The candidate blockers of light `i`, or `None` when it must test every sphere.
+    #[inline]
+    fn light(&self, i: usize) -> Option<&[u16]> {
+        let (a, b) = self.ranges.get(i).copied().flatten()?;
+        self.pool.get(a as usize..b as usize)
+    }
+}
+
 /// The pixels of one row, traced span by span (see [`Frame::row`]).
 #[derive(Debug)]
 pub struct Row<'f, 'a, const S: usize, const L: usize> {
@@ -686,11 +776,7 @@ pub struct Row<'f, 'a, const S: usize, const L: usize> {
     j: u32,
     i: u32,
     end: u32,
-    span_end: u32,
-    row: List<S>,
-    span: List<S>,
-    shadow: [List<S>; L],
-    culled: bool,
+    cull: Cull<S, L>,
 }
 
 impl<const S: usize, const L: usize> Iterator for Row<'_, '_, S, L> {
@@ -701,29 +787,9 @@ impl<const S: usize, const L: usize> Iterator for Row<'_, '_, S, L> {
         if self.i >= self.end {
             return None;
         }
-        let f = self.frame;
-        let i = self.i;
-        if i >= self.span_end {
-            self.span_end = (i + SPAN as u32).min(self.end);
-            self.culled = f.gather(
-                self.j,
-                i,
-                self.span_end,
-                &self.row,
-                &mut self.span,
-                &mut self.shadow,
-            );
-        }
-        let shadow = if self.culled {
-            Some(&self.shadow)
-        } else {
-            None
-        };
-        let c = f.average(i, self.j, |ray| {
-            f.shade_from(ray, f.primary_hit_among(ray, i, &self.span), shadow)
-        });
+        let px = self.frame.next_pixel(self.j, self.i, &mut self.cull);
         self.i += 1;
-        Some(f.encode(c))
+        Some(px)
     }
 
     fn size_hint(&self) -> (usize, Option<usize>) {

@@ -12,7 +12,7 @@
 
 use crate::geometry::{exit_root, Prepared, Ray};
 use crate::math::{powf, Color, Vec3};
-use crate::scene::{make_hit, Hit, Light, Material, Scene};
+use crate::scene::{make_hit, Hit, Light, Scene};
 
 /// Just above zero: "t > 0" for closed-interval queries.
 pub(crate) const T_EPS: f32 = f32::MIN_POSITIVE;
@@ -166,11 +166,20 @@ pub fn shade_local<const S: usize, const L: usize>(
     dir: Vec3,
     mut blocked: impl FnMut(usize) -> bool,
 ) -> Color {
-    let m: &Material = &scene.materials()[hit.sphere];
+    // A hit always names a sphere of this scene; `get` keeps a bounds-check panic out of the
+    // render path (an invalid hit shades black).
+    let Some(m) = scene.materials().get(hit.sphere) else {
+        return Color::ZERO;
+    };
     let n = hit.normal;
     let mut colour = m.diffuse.mul_elem(scene.ambient());
     let has_specular = m.specular != Color::ZERO;
-    let v = -dir.normalize_fast();
+    // Only a highlight needs the view vector (and only when there is a light).
+    let v = if has_specular && !scene.lights().is_empty() {
+        -dir.normalize_fast()
+    } else {
+        Vec3::ZERO
+    };
     for (i, light) in scene.lights().iter().enumerate() {
         let l = towards(light, hit.point);
         let nl = n.dot(l);
