@@ -696,7 +696,9 @@ fn may_block(light: &Light, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
             // g(λ) = |w − λ v|² − (R + λ ρ)² > 0 on [0, 1], w = m − light.
             let w = m - position;
             let v = q - position;
-            let big = r * (1.0 + 2e-4) + 2.0 * ETA * (w.length() + r);
+            // |x| + |y| + |z| ≥ |w|: a wider pad without a square root.
+            let big = r * (1.0 + 2e-4)
+                + 2.0 * ETA * (libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z) + r);
             let (ww, vv, wv) = (w.dot(w), v.dot(v), w.dot(v));
             let a = vv - rho * rho;
             let b = wv + big * rho;
@@ -719,7 +721,9 @@ fn may_block(light: &Light, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
             let w = m - q;
             let s = w.dot(l);
             let e = if s > 0.0 { w - l * s } else { w };
-            let big = r * (1.0 + 2e-4) + 2.0 * ETA * (w.length() + rho + r) + rho;
+            let big = r * (1.0 + 2e-4)
+                + 2.0 * ETA * (libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z) + rho + r)
+                + rho;
             let d2 = e.dot(e);
             let tol = 1e-5 * (w.dot(w) + big * big);
             !(d2 - big * big > tol)
