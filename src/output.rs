@@ -32,7 +32,7 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
         let w = self.width();
         for j in 0..self.height() {
             let row = Rectangle::new(Point::new(0, j as i32), Size::new(w, 1));
-            target.fill_contiguous(&row, (0..w).map(|i| self.pixel(i, j).into()))?;
+            target.fill_contiguous(&row, self.row(j).map(Into::into))?;
         }
         Ok(())
     }

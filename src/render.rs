@@ -145,6 +145,8 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     eye: heapless::Vec<Prepared, S>,
     boxes: heapless::Vec<PixelBox, S>,
     lights: [heapless::Vec<Prepared, S>; L],
+    /// Per light (with shadows), its spheres sorted for the span culling.
+    sweeps: [Sweep<S>; L],
     /// Shadows on and at least one light: the only case that casts shadow rays.
     shadow_rays: bool,
 }
@@ -194,6 +196,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             Some(Light::Point { position, .. }) if scene.shadows() => prepare(*position),
             _ => heapless::Vec::new(),
         });
+        let axes = camera.basis();
+        let sweeps = core::array::from_fn(|i| match scene.lights().get(i) {
+            Some(light) if scene.shadows() => Sweep::new(light, scene.spheres(), axes.0, axes.1),
+            _ => Sweep::empty(),
+        });
         Ok(Frame {
             scene,
             camera,
@@ -202,6 +209,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             eye,
             boxes,
             lights,
+            sweeps,
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),
         })
     }
@@ -482,8 +490,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let shadow = if cull.culled { Some(&*cull) } else { None };
         let c = if cull.stored {
             let k = (i - cull.span_start) as usize;
-            let first = cull.hits.get(k).copied().flatten();
-            self.shade_from(&self.camera.view_ray(i, j, 0, 0, 1), first, shadow)
+            let ray = self.camera.view_ray(i, j, 0, 0, 1);
+            // The hit record again from (t, sphere): `make_hit` is a pure function of them.
+            let first = cull.hits.get(k).copied().flatten().and_then(|(t, s)| {
+                let p = self.eye.get(s as usize)?;
+                Some(make_hit(&ray, t, s as usize, p.f, p.r))
+            });
+            self.shade_from(&ray, first, shadow)
         } else {
             self.average(i, j, |ray| {
                 self.shade_from(ray, self.primary_hit_among(ray, i, &cull.span), shadow)
@@ -629,7 +642,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     extend(h);
                 }
                 if let Some(slot) = cull.hits.get_mut(k) {
-                    *slot = h;
+                    *slot = h.map(|h| (h.t, h.sphere as u16));
                 }
             }
             cull.stored = true;
@@ -664,13 +677,38 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 continue;
             }
             let start = cull.pool.len() as u32;
+            let spheres = self.scene.spheres();
             let mut full = false;
-            for (s, sphere) in self.scene.spheres().iter().enumerate() {
-                if may_block(light, sphere.center, sphere.radius, q, rho)
-                    && cull.pool.push(s as u16).is_err()
-                {
-                    full = true;
-                    break;
+            let mut consider = |s: u16| {
+                if let Some(sphere) = spheres.get(s as usize) {
+                    if may_block(light, sphere.center, sphere.radius, q, rho)
+                        && cull.pool.push(s).is_err()
+                    {
+                        full = true;
+                    }
+                }
+            };
+            match self.sweeps.get(li).and_then(|w| w.band(light, q, rho)) {
+                // Only the spheres whose key is near the span's, and the wide ones.
+                Some((sweep, key, band, slack)) => {
+                    for &s in sweep.wide() {
+                        consider(s);
+                    }
+                    let narrow = sweep.narrow();
+                    let first = narrow.partition_point(|e| e.0 < key - band);
+                    for e in narrow.get(first..).unwrap_or(&[]) {
+                        if e.0 > key + band {
+                            break;
+                        }
+                        if libm::fabsf(e.0 - key) <= e.1 + slack {
+                            consider(e.2);
+                        }
+                    }
+                }
+                None => {
+                    for s in 0..spheres.len() {
+                        consider(s as u16);
+                    }
                 }
             }
             if full {
@@ -680,6 +718,143 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 *range = Some((start, cull.pool.len() as u32));
             }
         }
+    }
+}
+
+/// Angular margin of the sweep keys of point lights (radians): far above `atan2f`'s error.
+const ANGLE_MARGIN: f32 = 1e-4;
+
+/// One light's spheres sorted by a 1-D key, so that a span finds its possible shadow blockers
+/// by a binary search instead of testing every sphere: for a point light, the angle between
+/// a fixed axis and the direction from the light to the sphere, with the half-angle of the
+/// sphere's (padded) cone as half-width; for a directional light, the position along an axis
+/// across the light, with the padded radius as half-width. A sphere can block a shadow ray
+/// from a span only if its key interval meets the span's (the angle between two directions is
+/// at least the difference of their angles to a third; a distance at least the difference of
+/// its projections), so the band is a superset of [`may_block`]'s answers, which then decides.
+/// Spheres much wider than the rest (a ground, a wall) would widen every band: they are kept
+/// apart and always tested.
+#[derive(Debug)]
+struct Sweep<const S: usize> {
+    /// The wide spheres first (`wide` of them, keys unused), then the rest as
+    /// `(key, half-width, sphere)` sorted by key.
+    entries: heapless::Vec<(f32, f32, u16), S>,
+    wide: usize,
+    /// The largest half-width of the sorted ones.
+    hw_max: f32,
+    /// The key axis (unit).
+    axis: Vec3,
+}
+
+impl<const S: usize> Sweep<S> {
+    const fn empty() -> Self {
+        Sweep {
+            entries: heapless::Vec::new(),
+            wide: 0,
+            hw_max: 0.0,
+            axis: Vec3::ZERO,
+        }
+    }
+
+    fn new(light: &Light, spheres: &[crate::Sphere], u: Vec3, v: Vec3) -> Self {
+        let mut sweep = Self::empty();
+        let axis = match *light {
+            Light::Point { .. } => Some(u),
+            Light::Directional { direction, .. } => {
+                // An axis across the light: the camera's right (or up) vector without its
+                // component along the light.
+                let across = |a: Vec3| a - direction * a.dot(direction);
+                let a = across(u);
+                let a = if a.dot(a) > 0.01 { a } else { across(v) };
+                a.normalized()
+            }
+        };
+        let Some(axis) = axis else {
+            return sweep;
+        };
+        sweep.axis = axis;
+        let mut all: heapless::Vec<(f32, f32, u16), S> = heapless::Vec::new();
+        for (s, sphere) in spheres.iter().enumerate() {
+            let (m, r) = (sphere.center, sphere.radius);
+            let l1 = |w: Vec3| libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z);
+            let e = match *light {
+                Light::Point { position, .. } => {
+                    // The same padded radius as `may_block`.
+                    let w = m - position;
+                    let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(w) + r);
+                    let ww = w.dot(w);
+                    if !(ww > big * big * 1.01) {
+                        (0.0, f32::INFINITY, s as u16) // the light inside or near: wide
+                    } else {
+                        let key = libm::atan2f(axis.cross(w).length(), axis.dot(w));
+                        let hw = libm::atan2f(big, libm::sqrtf(ww - big * big));
+                        (key, hw, s as u16)
+                    }
+                }
+                Light::Directional { .. } => {
+                    // `may_block` pads with 2η|m − q|₁ ≤ 2η(|m|₁ + |q|₁); the |q|₁ part and
+                    // the rounding of keys (1e-5 of |m|₁, |q|₁) are added per span.
+                    let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(m) + r) + 1e-5 * l1(m);
+                    (axis.dot(m), big, s as u16)
+                }
+            };
+            let _ = all.push(e);
+        }
+        // "Wide": more than 8 times the median half-width.
+        let mut hws: heapless::Vec<f32, S> = all.iter().map(|e| e.1).collect();
+        hws.sort_unstable_by(|a, b| a.total_cmp(b));
+        let median = hws.get(hws.len() / 2).copied().unwrap_or(0.0);
+        let is_wide = |e: &(f32, f32, u16)| !(e.1 <= 8.0 * median) || !e.0.is_finite();
+        for e in all.iter().filter(|e| is_wide(e)) {
+            let _ = sweep.entries.push(*e);
+        }
+        sweep.wide = sweep.entries.len();
+        for e in all.iter().filter(|e| !is_wide(e)) {
+            let _ = sweep.entries.push(*e);
+            sweep.hw_max = sweep.hw_max.max(e.1);
+        }
+        if let Some(narrow) = sweep.entries.get_mut(sweep.wide..) {
+            narrow.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        }
+        sweep
+    }
+
+    fn wide(&self) -> impl Iterator<Item = &u16> {
+        self.entries.iter().take(self.wide).map(|e| &e.2)
+    }
+
+    fn narrow(&self) -> &[(f32, f32, u16)] {
+        self.entries.get(self.wide..).unwrap_or(&[])
+    }
+
+    /// For shadow rays from the ball `(q, rho)`: `(self, key, band, slack)` where the spheres
+    /// to consider have `|key_j − key| ≤ half-width_j + slack` (so `key_j` within `band`), or
+    /// `None` when the sweep does not apply (no axis, or the light inside the ball).
+    fn band(&self, light: &Light, q: Vec3, rho: f32) -> Option<(&Self, f32, f32, f32)> {
+        if self.axis == Vec3::ZERO {
+            return None;
+        }
+        let l1 = libm::fabsf(q.x) + libm::fabsf(q.y) + libm::fabsf(q.z);
+        let (key, slack) = match *light {
+            Light::Point { position, .. } => {
+                let v = q - position;
+                let vv = v.dot(v);
+                if !(vv > rho * rho * 1.01) {
+                    return None;
+                }
+                let key = libm::atan2f(self.axis.cross(v).length(), self.axis.dot(v));
+                let theta = libm::atan2f(rho, libm::sqrtf(vv - rho * rho));
+                (key, theta + ANGLE_MARGIN)
+            }
+            Light::Directional { .. } => (
+                self.axis.dot(q),
+                rho + 2.0 * ETA * (l1 + rho) + rho + 1e-5 * l1,
+            ),
+        };
+        if !(key.is_finite() && slack.is_finite()) {
+            return None;
+        }
+        Some((self, key, self.hw_max + slack, slack))
     }
 }
 
@@ -745,9 +920,10 @@ struct Cull<const S: usize, const L: usize> {
     span_end: u32,
     /// Shadow lists are valid for this span.
     culled: bool,
-    /// `hits` holds the span's primary hits (one sample per pixel).
+    /// `hits` holds the span's primary hits (one sample per pixel), as `(t, sphere)`: 8 bytes
+    /// a pixel, for microcontroller stacks.
     stored: bool,
-    hits: [Option<Hit>; SPAN],
+    hits: [Option<(f32, u16)>; SPAN],
 }
 
 impl<const S: usize, const L: usize> Cull<S, L> {
