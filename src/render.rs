@@ -110,7 +110,7 @@ pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
 }
 
 /// Pixels per span: the unit for which the renderer gathers candidate spheres.
-pub const SPAN: usize = 8;
+pub const SPAN: usize = 32;
 
 /// A scene, a camera and options, with everything that all rays of the frame share computed
 /// once: `o − m` and `|o − m|² − r²` of every sphere for the eye and for every point light,
@@ -155,8 +155,8 @@ pub struct Frame<'a, const S: usize, const L: usize> {
 type List<const S: usize> = heapless::Vec<u16, S>;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
-    /// Sphere indices are stored as `u16`.
-    const FITS: () = assert!(S <= u16::MAX as usize + 1, "sphere capacity above 65536");
+    /// Sphere indices are stored as `u16`, two values kept as markers.
+    const FITS: () = assert!(S < REST as usize, "sphere capacity above 65533");
 
     /// Prepares a frame; fails only for invalid options (`samples` outside 1..=16).
     ///
@@ -326,7 +326,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 scene.shadows()
                     && scene.lights().get(i).is_some_and(|light| {
                         let consts = self.light_consts(i, light);
-                        match lists.and_then(|l| l.light(i)) {
+                        match lists.and_then(|l| l.light(hit.sphere, i)) {
                             Some(cands) => in_shadow_among(scene, hit, light, consts, cands),
                             None => in_shadow(scene, hit, light, consts),
                         }
@@ -625,14 +625,31 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if !self.shadow_rays {
             return;
         }
-        // The span's primary hits (kept for shading when one sample per pixel) and the box
-        // of their points.
-        let mut lo = Vec3::splat(f32::INFINITY);
-        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        // The span's primary hits (kept for shading when one sample per pixel), grouped by
+        // the sphere hit (a sphere and the wall behind it make poor company in one bound),
+        // and the box of each group's points.
+        let mut groups = [Group::EMPTY; GROUPS];
         let mut extend = |h: &Hit| {
-            let p = h.point;
-            lo = Vec3::new(lo.x.min(p.x), lo.y.min(p.y), lo.z.min(p.z));
-            hi = Vec3::new(hi.x.max(p.x), hi.y.max(p.y), hi.z.max(p.z));
+            let g = group_of(&groups, h.sphere).unwrap_or_else(|| {
+                // A new group while there is room; the last one takes every other sphere.
+                let free = groups.iter().position(|g| g.sphere == NONE);
+                match free {
+                    Some(k) if k + 1 < GROUPS => k,
+                    _ => GROUPS - 1,
+                }
+            });
+            if let Some(gr) = groups.get_mut(g) {
+                if gr.sphere == NONE {
+                    gr.sphere = if g + 1 < GROUPS {
+                        h.sphere as u16
+                    } else {
+                        REST
+                    };
+                }
+                let p = h.point;
+                gr.lo = Vec3::new(gr.lo.x.min(p.x), gr.lo.y.min(p.y), gr.lo.z.min(p.z));
+                gr.hi = Vec3::new(gr.hi.x.max(p.x), gr.hi.y.max(p.y), gr.hi.z.max(p.z));
+            }
         };
         if self.samples == 1 {
             for (k, i) in (i0..i1).enumerate() {
@@ -658,67 +675,113 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         cull.culled = true;
         cull.pool.clear();
-        if !(lo.x <= hi.x) {
-            // No hit: nothing is shaded, the lists stay empty.
-            cull.ranges = [Some((0, 0)); L];
-            return;
-        }
-        let q = (lo + hi) * 0.5;
-        let half = (hi - lo) * 0.5;
-        // Rounding of q and of the length: a relative pad far above it.
-        let rho = half.length() * (1.0 + 1e-5) + 1e-5 * q.max_abs() + f32::MIN_POSITIVE;
-        let bounded = rho.is_finite() && q.is_finite();
-        for (li, range) in cull.ranges.iter_mut().enumerate() {
-            *range = None;
-            let Some(light) = self.scene.lights().get(li) else {
+        cull.groups = [NONE; GROUPS];
+        for (g, group) in groups.iter().enumerate() {
+            let (Some(slot), Some(ranges)) = (cull.groups.get_mut(g), cull.ranges.get_mut(g))
+            else {
                 continue;
             };
-            if !bounded {
+            *slot = group.sphere;
+            if group.sphere == NONE {
                 continue;
             }
-            let start = cull.pool.len() as u32;
-            let spheres = self.scene.spheres();
-            let mut full = false;
-            let mut consider = |s: u16| {
-                if let Some(sphere) = spheres.get(s as usize) {
-                    if may_block(light, sphere.center, sphere.radius, q, rho)
-                        && cull.pool.push(s).is_err()
-                    {
-                        full = true;
-                    }
+            let (lo, hi) = (group.lo, group.hi);
+            let q = (lo + hi) * 0.5;
+            let half = (hi - lo) * 0.5;
+            // Rounding of q and of the length: a relative pad far above it.
+            let rho = half.length() * (1.0 + 1e-5) + 1e-5 * q.max_abs() + f32::MIN_POSITIVE;
+            let bounded = rho.is_finite() && q.is_finite();
+            for (li, range) in ranges.iter_mut().enumerate() {
+                *range = None;
+                let Some(light) = self.scene.lights().get(li) else {
+                    continue;
+                };
+                if !bounded {
+                    continue;
                 }
-            };
-            match self.sweeps.get(li).and_then(|w| w.band(light, q, rho)) {
-                // Only the spheres whose key is near the span's, and the wide ones.
-                Some((sweep, key, band, slack)) => {
-                    for &s in sweep.wide() {
-                        consider(s);
-                    }
-                    let narrow = sweep.narrow();
-                    let first = narrow.partition_point(|e| e.0 < key - band);
-                    for e in narrow.get(first..).unwrap_or(&[]) {
-                        if e.0 > key + band {
-                            break;
-                        }
-                        if libm::fabsf(e.0 - key) <= e.1 + slack {
-                            consider(e.2);
+                let start = cull.pool.len() as u32;
+                let spheres = self.scene.spheres();
+                let mut full = false;
+                let mut consider = |s: u16| {
+                    if let Some(sphere) = spheres.get(s as usize) {
+                        if may_block(light, sphere.center, sphere.radius, q, rho)
+                            && cull.pool.push(s).is_err()
+                        {
+                            full = true;
                         }
                     }
-                }
-                None => {
-                    for s in 0..spheres.len() {
-                        consider(s as u16);
+                };
+                match self.sweeps.get(li).and_then(|w| w.band(light, q, rho)) {
+                    // Only the spheres whose key is near the span's, and the wide ones.
+                    Some((sweep, key, band, slack)) => {
+                        for &s in sweep.wide() {
+                            consider(s);
+                        }
+                        let narrow = sweep.narrow();
+                        let first = narrow.partition_point(|e| e.0 < key - band);
+                        for e in narrow.get(first..).unwrap_or(&[]) {
+                            if e.0 > key + band {
+                                break;
+                            }
+                            if libm::fabsf(e.0 - key) <= e.1 + slack {
+                                consider(e.2);
+                            }
+                        }
+                    }
+                    None => {
+                        for s in 0..spheres.len() {
+                            consider(s as u16);
+                        }
                     }
                 }
-            }
-            if full {
-                // Out of room: this light tests every sphere in this span.
-                cull.pool.truncate(start as usize);
-            } else {
-                *range = Some((start, cull.pool.len() as u32));
+                if full {
+                    // Out of room: this light tests every sphere for this group.
+                    cull.pool.truncate(start as usize);
+                } else {
+                    *range = Some((start, cull.pool.len() as u32));
+                }
             }
         }
     }
+}
+
+/// Hit groups per span: hits on up to `GROUPS − 1` spheres get their own bound, the rest share
+/// the last.
+const GROUPS: usize = 4;
+/// An unused group.
+const NONE: u16 = u16::MAX;
+/// The group of every other sphere.
+const REST: u16 = u16::MAX - 1;
+
+/// The bound of one group's hit points.
+#[derive(Debug, Clone, Copy)]
+struct Group {
+    sphere: u16,
+    lo: Vec3,
+    hi: Vec3,
+}
+
+impl Group {
+    const EMPTY: Group = Group {
+        sphere: NONE,
+        lo: Vec3::splat(f32::INFINITY),
+        hi: Vec3::splat(f32::NEG_INFINITY),
+    };
+}
+
+/// The group that holds hits on `sphere`, if there is one yet (the rest group when full).
+#[inline]
+fn group_of(groups: &[Group; GROUPS], sphere: usize) -> Option<usize> {
+    let mut rest = None;
+    for (g, gr) in groups.iter().enumerate() {
+        if gr.sphere as usize == sphere && gr.sphere < REST {
+            return Some(g);
+        }
+        if gr.sphere == REST {
+            rest = Some(g);
+        }
+    }
+    rest
 }
 
 /// Angular margin of the sweep keys of point lights (radians): far above `atan2f`'s error.
@@ -914,8 +977,10 @@ struct Cull<const S: usize, const L: usize> {
     row: List<S>,
     span: List<S>,
     pool: List<S>,
-    /// Per light, its slice of `pool`; `None`: test every sphere.
-    ranges: [Option<(u32, u32)>; L],
+    /// The sphere of each hit group (`NONE`: unused, `REST`: every other sphere).
+    groups: [u16; GROUPS],
+    /// Per group and light, its slice of `pool`; `None`: test every sphere.
+    ranges: [[Option<(u32, u32)>; L]; GROUPS],
     span_start: u32,
     span_end: u32,
     /// Shadow lists are valid for this span.
@@ -932,7 +997,8 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             row: heapless::Vec::new(),
             span: heapless::Vec::new(),
             pool: heapless::Vec::new(),
-            ranges: [None; L],
+            groups: [NONE; GROUPS],
+            ranges: [[None; L]; GROUPS],
             span_start: 0,
             span_end: 0,
             culled: false,
@@ -941,10 +1007,21 @@ impl<const S: usize, const L: usize> Cull<S, L> {
         }
     }
 
-    /// The candidate blockers of light `i`, or `None` when it must test every sphere.
+    /// The candidate blockers of light `i` for a primary hit on `sphere`, or `None` when it
+    /// must test every sphere.
     #[inline]
-    fn light(&self, i: usize) -> Option<&[u16]> {
-        let (a, b) = self.ranges.get(i).copied().flatten()?;
+    fn light(&self, sphere: usize, i: usize) -> Option<&[u16]> {
+        let mut g = None;
+        for (k, &s) in self.groups.iter().enumerate() {
+            if s as usize == sphere && s < REST {
+                g = Some(k);
+                break;
+            }
+            if s == REST {
+                g = Some(k);
+            }
+        }
+        let (a, b) = self.ranges.get(g?)?.get(i).copied().flatten()?;
         self.pool.get(a as usize..b as usize)
     }
 }
