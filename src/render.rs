@@ -33,7 +33,7 @@ use crate::geometry::{Prepared, Ray};
 use crate::math::{powf, Color, Vec3};
 use crate::raster::{PixelBox, Screen, ETA};
 use crate::scene::{make_hit, Hit, Light, Scene};
-use crate::shading::{follow, in_shadow, in_shadow_among, shade_local, T_EPS};
+use crate::shading::{follow, in_shadow_among, shade_local, T_EPS};
 
 /// How linear colour becomes a byte.
 ///
@@ -144,7 +144,9 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     encoding: Encoding,
     eye: heapless::Vec<Prepared, S>,
     boxes: heapless::Vec<PixelBox, S>,
-    lights: [heapless::Vec<Prepared, S>; L],
+    /// Per point light (with shadows), `c` of [`Prepared::exact`] from the light for every
+    /// sphere; the rest of those constants is rebuilt exactly when needed.
+    lights: [heapless::Vec<f32, S>; L],
     /// Per light (with shadows), its spheres sorted for the span culling.
     sweeps: [Sweep<S>; L],
     /// Shadows on and at least one light: the only case that casts shadow rays.
@@ -193,7 +195,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let _ = boxes.push(screen.sphere_box(k));
         }
         let lights = core::array::from_fn(|i| match scene.lights().get(i) {
-            Some(Light::Point { position, .. }) if scene.shadows() => prepare(*position),
+            Some(Light::Point { position, .. }) if scene.shadows() => {
+                let mut v = heapless::Vec::new();
+                for s in scene.spheres() {
+                    // Capacity S, at most S spheres: cannot fail.
+                    let _ = v.push(Prepared::exact(*position, s).c);
+                }
+                v
+            }
             _ => heapless::Vec::new(),
         });
         let axes = camera.basis();
@@ -301,7 +310,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
 
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).
     #[inline]
-    fn light_consts(&self, i: usize, light: &Light) -> Option<&[Prepared]> {
+    fn light_consts(&self, i: usize, light: &Light) -> Option<&[f32]> {
         match light {
             Light::Point { .. } => self.lights.get(i).map(|v| &v[..]),
             Light::Directional { .. } => None,
@@ -327,8 +336,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     && scene.lights().get(i).is_some_and(|light| {
                         let consts = self.light_consts(i, light);
                         match lists.and_then(|l| l.light(hit.sphere, i)) {
-                            Some(cands) => in_shadow_among(scene, hit, light, consts, cands),
-                            None => in_shadow(scene, hit, light, consts),
+                            Some(cands) => in_shadow_among(
+                                scene,
+                                hit,
+                                light,
+                                consts,
+                                cands.iter().map(|&j| j as usize),
+                            ),
+                            None => {
+                                in_shadow_among(scene, hit, light, consts, 0..scene.spheres().len())
+                            }
                         }
                     })
             })

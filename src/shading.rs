@@ -86,55 +86,56 @@ pub fn in_shadow<const S: usize, const L: usize>(
 }
 
 /// [`in_shadow`] over a subset of the spheres: `candidates` (sphere indices) must contain every
-/// sphere that can block the shadow ray, as the renderer's per-span shadow lists do. The tests
-/// are those of [`in_shadow`], so the answer is the same bit for bit; only fewer spheres are
-/// asked. `from_light` is as for [`in_shadow`] (indexed by sphere).
+/// sphere that can block the shadow ray, as the renderer's per-span shadow lists do (the
+/// brute-force path passes them all). The tests are those of [`in_shadow`], so the answer is
+/// the same bit for bit; only fewer spheres are asked. `light_c`, for a point light, holds
+/// `c = |light − m|² − r²` of [`Prepared::exact`] for every sphere (indexed by sphere): the
+/// rest of those constants is rebuilt exactly as `Prepared::exact` computes it, so the frame
+/// stores 4 bytes per light and sphere instead of 20.
 #[inline]
 pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
     scene: &Scene<S, L>,
     hit: &Hit,
     light: &Light,
-    from_light: Option<&[Prepared]>,
-    candidates: &[u16],
+    light_c: Option<&[f32]>,
+    candidates: impl Iterator<Item = usize>,
 ) -> bool {
     let p = hit.point;
     let spheres = scene.spheres();
-    let others = candidates
-        .iter()
-        .map(|&j| j as usize)
-        .filter(|&j| j != hit.sphere);
+    let mut others = candidates.filter(|&j| j != hit.sphere);
     match *light {
         Light::Point { position, .. } => {
             let to_light = position - p;
             if exit_root(hit.offset, to_light).is_some_and(|t| t < 1.0) {
                 return true;
             }
-            match from_light {
-                Some(consts) => {
+            match light_c {
+                Some(cs) => {
                     let d = p - position;
-                    let mut others = others;
                     // `get`, not `[j]`: no bounds-check panic linked into the render path.
-                    others.any(|j| {
-                        consts
-                            .get(j)
-                            .is_some_and(|k| k.hit(d, T_EPS, T_BELOW_ONE).is_some())
+                    others.any(|j| match (spheres.get(j), cs.get(j)) {
+                        (Some(s), Some(&c)) => {
+                            let k = Prepared {
+                                f: position - s.center,
+                                c,
+                                r: s.radius,
+                            };
+                            k.hit(d, T_EPS, T_BELOW_ONE).is_some()
+                        }
+                        _ => false,
                     })
                 }
-                None => {
-                    let mut others = others;
-                    others.any(|j| {
-                        spheres.get(j).is_some_and(|s| {
-                            Prepared::new(p, s)
-                                .hit(to_light, T_EPS, T_BELOW_ONE)
-                                .is_some()
-                        })
+                None => others.any(|j| {
+                    spheres.get(j).is_some_and(|s| {
+                        Prepared::new(p, s)
+                            .hit(to_light, T_EPS, T_BELOW_ONE)
+                            .is_some()
                     })
-                }
+                }),
             }
         }
         Light::Directional { direction, .. } => {
             let l = -direction;
-            let mut others = others;
             exit_root(hit.offset, l).is_some()
                 || others.any(|j| {
                     spheres
