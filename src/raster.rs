@@ -270,7 +270,7 @@ fn conic_bounds(fc: [f64; 3], k: f64, rect: [f64; 4]) -> Option<[f64; 4]> {
         if !(lin(px, py) > 0.0) {
             return;
         }
-        let (px, py) = (px.clamp(xlo, xhi), py.clamp(ylo, yhi));
+        let (px, py) = (px.max(xlo).min(xhi), py.max(ylo).min(yhi));
         bb = Some(match bb {
             None => [px, px, py, py],
             Some([a, b, c, d]) => [a.min(px), b.max(px), c.min(py), d.max(py)],

@@ -256,12 +256,13 @@ pub fn find_from<const S: usize, const L: usize>(
     offset: Vec3,
 ) -> Option<Hit> {
     let spheres = scene.spheres();
-    let mut best: Option<(f32, usize, Vec3)> = None;
+    // The radius travels with the index: re-indexing `spheres` would link a bounds-check panic.
+    let mut best: Option<(f32, usize, Vec3, f32)> = None;
     let mut tmax = f32::INFINITY;
-    if from < spheres.len() {
+    if let Some(s) = spheres.get(from) {
         if let Some(t) = exit_root(offset, ray.dir) {
             tmax = t;
-            best = Some((t, from, offset));
+            best = Some((t, from, offset, s.radius));
         }
     }
     for (j, s) in spheres.iter().enumerate() {
@@ -271,10 +272,10 @@ pub fn find_from<const S: usize, const L: usize>(
         let k = Prepared::new(ray.origin, s);
         if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
             tmax = t;
-            best = Some((t, j, k.f));
+            best = Some((t, j, k.f, s.radius));
         }
     }
-    best.map(|(t, j, f)| make_hit(ray, t, j, f, spheres[j].radius))
+    best.map(|(t, j, f, r)| make_hit(ray, t, j, f, r))
 }
 
 /// The colour seen along a ray: the hit's local colour plus its mirror reflections, or the
@@ -313,7 +314,10 @@ pub(crate) fn follow<const S: usize, const L: usize>(
             return colour + weight.mul_elem(scene.background());
         };
         colour += weight.mul_elem(local(&h, &ray));
-        let km = scene.materials()[h.sphere].mirror;
+        let km = scene
+            .materials()
+            .get(h.sphere)
+            .map_or(Color::ZERO, |m| m.mirror);
         if km == Color::ZERO || depth >= scene.max_depth() {
             return colour;
         }
