@@ -174,7 +174,8 @@ impl Camera {
     /// ```
     /// # use microray::{Camera, Vec3};
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 60.0, 4, 4)?;
-    /// assert_eq!(cam.view_ray(1, 1, 1, 1, 2), cam.ray(2.0, 2.0));
+    /// assert_eq!(cam.view_ray(1, 1, 1, 1, 2), cam.ray(1.75, 1.75)); // second sample of a 2×2 grid
+    /// assert_eq!(cam.view_ray(1, 2, 0, 0, 1), cam.ray(1.5, 2.5)); // one sample: the pixel centre
     /// # Ok::<(), microray::Error>(())
     /// ```
     #[inline]

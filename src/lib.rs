@@ -58,3 +58,8 @@ pub use math::{Color, Vec3};
 pub use render::{Encoding, Frame, RenderOptions};
 pub use scene::{Hit, Light, Material, Scene};
 pub use shading::{shade, trace};
+
+/// The README's examples, compiled and run as doctests so they cannot drift from the API.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

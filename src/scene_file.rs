@@ -179,7 +179,7 @@ pub fn parse<const S: usize, const L: usize>(text: &str) -> Result<SceneFile<S, 
             file: None,
             line,
             field: line.and_then(|l| lines.key_on(l)),
-            message: e.message().trim().to_string(),
+            message: e.message().trim().replace('\n', "; "),
             io: false,
         }
     })?;
@@ -319,16 +319,48 @@ impl<'a> LineIndex<'a> {
         self.starts.partition_point(|&s| s <= offset)
     }
 
-    /// `key` for a line `key = value`, or the table header for `[table]` / `[[table]]`.
-    fn key_on(&self, line: usize) -> Option<String> {
+    fn text_of(&self, line: usize) -> Option<&'a str> {
         let start = *self.starts.get(line.checked_sub(1)?)?;
         let end = self.starts.get(line).copied().unwrap_or(self.text.len());
-        let l = self.text[start..end].trim();
-        if let Some((k, _)) = l.split_once('=') {
-            return Some(k.trim().to_string());
+        Some(self.text[start..end].trim())
+    }
+
+    /// The table a line belongs to, as `camera` or `sphere[2]`, and the header's own key.
+    fn table_of(&self, line: usize) -> Option<String> {
+        let header = (1..=line)
+            .rev()
+            .find(|&l| self.text_of(l).is_some_and(|t| t.starts_with('[')))?;
+        let h = self.text_of(header)?;
+        let name = h
+            .trim_start_matches('[')
+            .split(']')
+            .next()?
+            .trim()
+            .to_string();
+        if !h.starts_with("[[") {
+            return Some(name);
         }
-        let h = l.trim_start_matches('[').split(']').next()?.trim();
-        (!h.is_empty()).then(|| h.to_string())
+        let index = (1..header)
+            .filter(|&l| {
+                self.text_of(l).is_some_and(|t| {
+                    t.starts_with("[[")
+                        && t.trim_start_matches('[').split(']').next().map(str::trim) == Some(&name)
+                })
+            })
+            .count();
+        Some(format!("{name}[{index}]"))
+    }
+
+    /// The field written on a line: `sphere[1].radius` for `radius = …` in the second
+    /// `[[sphere]]`, or the table itself for a header line.
+    fn key_on(&self, line: usize) -> Option<String> {
+        let l = self.text_of(line)?;
+        let table = self.table_of(line);
+        match (l.split_once('='), table) {
+            (Some((k, _)), Some(t)) if !l.starts_with('[') => Some(format!("{t}.{}", k.trim())),
+            (Some((k, _)), None) => Some(k.trim().to_string()),
+            (_, t) => t,
+        }
     }
 }
 

@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Builds the firmware for one board, runs it in QEMU and prints key=value lines.
+#
+#   examples/firmware/run.sh m4f   # mps2-an386, Cortex-M4F, thumbv7em-none-eabihf
+#   examples/firmware/run.sh m0    # microbit,   Cortex-M0,  thumbv6m-none-eabi (soft float)
+#
+# Two builds: `release` (opt-level 3) and `release-s` (opt-level "s"); both run in QEMU, keys of
+# the "s" build end in `_s`. `instructions*` are QEMU -icount instruction counts measured with
+# SysTick, not cycles. Sizes come from the linked ELF (tools/elfsize.py); the panic check walks
+# the call graph of the disassembly (tools/panic_check.py). Exits non-zero when a CRC differs
+# from the one committed in src/scene.rs, the panic check fails, or (m4f) vsqrt.f32 is missing.
+set -euo pipefail
+
+here=$(cd "$(dirname "$0")" && pwd)
+case "${1:-}" in
+  m4f) target=thumbv7em-none-eabihf; machine=(-M mps2-an386 -cpu cortex-m4) ;;
+  m0)  target=thumbv6m-none-eabi;    machine=(-M microbit) ;;
+  *)   echo "usage: $0 m4f|m0" >&2; exit 2 ;;
+esac
+cd "$here"
+
+command -v qemu-system-arm >/dev/null || { echo "error=qemu-system-arm not found" >&2; exit 3; }
+# An objdump for the panic check: $OBJDUMP, LLVM's (PATH or rustup's llvm-tools), or GNU's.
+objdump=${OBJDUMP:-}
+if [ -z "$objdump" ]; then
+  for c in llvm-objdump "$(rustc --print sysroot)"/lib/rustlib/*/bin/llvm-objdump arm-none-eabi-objdump; do
+    if command -v "$c" >/dev/null 2>&1; then objdump=$c; break; fi
+  done
+fi
+[ -n "$objdump" ] || { echo "error=no objdump (install llvm or binutils-arm-none-eabi)" >&2; exit 3; }
+
+expected=$(sed -n 's/^pub const EXPECTED_CRC32: u32 = 0x\([0-9a-f]*\);/\1/p' src/scene.rs)
+fail=0
+
+run() { # $1 = cargo profile, $2 = key suffix
+  local profile=$1 suffix=$2 out status
+  cargo build --quiet --profile "$profile" --target "$target"
+  local elf=target/$target/$profile/firmware
+  set +e
+  out=$(timeout 900 qemu-system-arm "${machine[@]}" -nographic -monitor none -serial none \
+        -semihosting-config enable=on,target=native -icount shift=0 -kernel "$elf")
+  status=$?
+  set -e
+  # The firmware's own lines, with the suffix of this build.
+  sed "s/^\([A-Za-z0-9_]*\)=/\1$suffix=/" <<<"$out"
+  [ "$status" -eq 0 ] || { echo "error$suffix=qemu exit status $status"; fail=1; }
+  grep -qx "crc32=$expected" <<<"$out" || { echo "error$suffix=crc32 differs from src/scene.rs ($expected)"; fail=1; }
+  python3 tools/elfsize.py "$elf" "$suffix"
+  python3 tools/panic_check.py "$elf" "$objdump" | sed "s/^\([A-Za-z0-9_]*\)=/\1$suffix=/" || {
+    echo "error$suffix=panic reachable from the render path"; fail=1; }
+  if [ "$target" = thumbv7em-none-eabihf ]; then
+    local n
+    n=$("$objdump" -d "$elf" | grep -c 'vsqrt\.f32' || true)
+    echo "vsqrt_f32_sites$suffix=$n"
+    [ "$n" -gt 0 ] || { echo "error$suffix=no vsqrt.f32 in the M4F firmware"; fail=1; }
+  fi
+}
+
+echo "target=$target"
+echo "instructions_note=QEMU -icount instruction counts timed with SysTick, not cycles"
+run release ""
+run release-s "_s"
+echo "ok=$((1 - fail))"
+exit "$fail"

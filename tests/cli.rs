@@ -1,0 +1,198 @@
+//! The desktop renderer as a user runs it: output, exit codes, and that a failure never leaves
+//! a PNG behind or touches an existing one.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// `cargo test` builds the examples beside the test binaries: target/<profile>/examples/render.
+fn renderer() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    let profile_dir = exe.parent().unwrap().parent().unwrap();
+    let bin = profile_dir
+        .join("examples")
+        .join(format!("render{}", std::env::consts::EXE_SUFFIX));
+    assert!(
+        bin.exists(),
+        "{} not built (run through cargo test)",
+        bin.display()
+    );
+    bin
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(renderer()).args(args).output().unwrap()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("microray-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn renders_a_scene_and_reports_the_time() {
+    let dir = scratch("ok");
+    let out = dir.join("flat.png");
+    let o = run(&[
+        "tests/data/flat.toml",
+        "-o",
+        out.to_str().unwrap(),
+        "--threads",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains(&format!("wrote {} (160x120)", out.display())),
+        "{stdout}"
+    );
+    assert!(
+        stdout
+            .lines()
+            .any(|l| l.starts_with("render: ") && l.ends_with(" ms")),
+        "{stdout}"
+    );
+    assert!(
+        stderr(&o).is_empty(),
+        "no progress bar when stderr is not a terminal: {}",
+        stderr(&o)
+    );
+    let png = tiny_skia::Pixmap::load_png(&out).unwrap();
+    assert_eq!((png.width(), png.height()), (160, 120));
+    let want = tiny_skia::Pixmap::load_png("tests/data/flat.png").unwrap();
+    let off = png
+        .data()
+        .iter()
+        .zip(want.data())
+        .filter(|(a, b)| a.abs_diff(**b) > 1)
+        .count();
+    assert_eq!(off, 0);
+}
+
+#[test]
+fn size_and_sample_overrides() {
+    let dir = scratch("override");
+    let out = dir.join("small.png");
+    let o = run(&[
+        "tests/data/lit.toml",
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "40",
+        "--height",
+        "30",
+        "--samples",
+        "2",
+        "--threads",
+        "1",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let png = tiny_skia::Pixmap::load_png(&out).unwrap();
+    assert_eq!((png.width(), png.height()), (40, 30));
+}
+
+#[test]
+fn the_demo_renders_without_a_scene() {
+    let dir = scratch("demo");
+    let out = dir.join("demo.png");
+    let o = run(&[
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "64",
+        "--height",
+        "48",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.exists());
+}
+
+/// Fails with `code`, one line on stderr naming `needle`, no PNG created, an existing one kept.
+fn fails(dir: &Path, args: &[&str], code: i32, needle: &str) {
+    let out = dir.join("keep.png");
+    std::fs::write(&out, b"precious").unwrap();
+    let mut all: Vec<&str> = args.to_vec();
+    all.extend(["-o", out.to_str().unwrap()]);
+    let o = run(&all);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(code), "{args:?}: {err}");
+    assert!(
+        err.contains(needle),
+        "{args:?}: {err:?} should mention {needle:?}"
+    );
+    assert!(
+        !err.contains("panicked") && !err.contains("backtrace"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        b"precious",
+        "{args:?} touched the existing file"
+    );
+    let others: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .filter(|n| n != "keep.png" && !n.to_string_lossy().ends_with(".toml"))
+        .collect();
+    assert!(others.is_empty(), "{args:?} left files behind: {others:?}");
+}
+
+#[test]
+fn invalid_input_exits_2_and_writes_nothing() {
+    let dir = scratch("bad");
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[sphere]]\ncenter = [0, 0, 0]\nradius = 0\n").unwrap();
+    let bad = bad.to_str().unwrap();
+    fails(
+        &dir,
+        &[bad],
+        2,
+        "bad.toml: line 6: sphere[0].radius: radius must be finite and > 0",
+    );
+    fails(
+        &dir,
+        &["tests/data/flat.toml", "--width", "0"],
+        2,
+        "--width",
+    );
+    fails(
+        &dir,
+        &["tests/data/flat.toml", "--height", "20000"],
+        2,
+        "--height",
+    );
+    fails(
+        &dir,
+        &["tests/data/flat.toml", "--samples", "17"],
+        2,
+        "--samples",
+    );
+    fails(
+        &dir,
+        &["tests/data/flat.toml", "--threads", "0"],
+        2,
+        "--threads",
+    );
+    fails(&dir, &["tests/data/flat.toml", "--bogus"], 2, "--bogus");
+    let single = stderr(&run(&[bad, "-o", dir.join("x.png").to_str().unwrap()]));
+    assert_eq!(single.trim_end().lines().count(), 1, "{single}");
+}
+
+#[test]
+fn io_failures_exit_1() {
+    let dir = scratch("io");
+    fails(&dir, &["no/such/scene.toml"], 1, "no/such/scene.toml");
+    // the output directory does not exist: nothing is written anywhere
+    let o = run(&[
+        "tests/data/flat.toml",
+        "-o",
+        dir.join("missing/dir/out.png").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("out.png"));
+}

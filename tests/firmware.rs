@@ -1,0 +1,79 @@
+//! The firmware check: the microcontroller and the host compute identical pixels.
+//!
+//! `examples/firmware/src/scene.rs` is compiled here unchanged (the firmware compiles the same
+//! file), and the CRC-32 of its frame must equal the constant committed there, which is what the
+//! firmware prints under QEMU on both boards. The QEMU run itself is the ignored test below.
+
+#[allow(dead_code)]
+#[path = "../examples/firmware/src/scene.rs"]
+mod scene;
+
+use microray::Frame;
+
+fn frame_crcs() -> (u32, u32, u32) {
+    let mut scene = scene::BenchScene::new();
+    scene::build_scene(&mut scene).unwrap();
+    let camera = scene::camera().unwrap();
+    let frame = Frame::new(&scene, &camera, scene::options()).unwrap();
+    let (crc, pixels) = scene::crc_rgb888(&frame);
+    let mut strip = vec![
+        embedded_graphics::pixelcolor::Rgb565::new(0, 0, 0);
+        scene::WIDTH as usize * scene::STRIP_ROWS
+    ];
+    let crc565 = scene::crc_rgb565_dithered(&frame, &mut strip).unwrap();
+    (crc, crc565, pixels)
+}
+
+#[test]
+fn host_crc_matches_the_committed_firmware_crc() {
+    let (crc, crc565, pixels) = frame_crcs();
+    assert_eq!(pixels, scene::WIDTH * scene::HEIGHT);
+    assert_eq!(crc, scene::EXPECTED_CRC32, "host crc32={crc:08x}");
+    assert_eq!(
+        crc565,
+        scene::EXPECTED_CRC32_RGB565,
+        "host crc32_rgb565={crc565:08x}"
+    );
+}
+
+#[test]
+fn crc32_is_the_standard_one() {
+    // The check value of CRC-32/ISO-HDLC (zip, PNG).
+    let mut c = scene::Crc32::new();
+    c.update(b"123456789");
+    assert_eq!(c.value(), 0xCBF4_3926);
+}
+
+fn on_path(program: &str) -> bool {
+    std::env::var_os("PATH")
+        .is_some_and(|paths| std::env::split_paths(&paths).any(|d| d.join(program).is_file()))
+}
+
+/// Runs `examples/firmware/run.sh` for both boards (builds the firmware, runs it in QEMU, which
+/// exits non-zero unless its CRCs equal the committed ones). Needs `qemu-system-arm` and the
+/// targets `thumbv7em-none-eabihf` and `thumbv6m-none-eabi`.
+#[test]
+#[ignore = "needs qemu-system-arm; run with --ignored"]
+fn firmware_in_qemu_prints_the_host_crc() {
+    if !on_path("qemu-system-arm") {
+        // A check that did not run must not be reported as passed: fail with the reason. (A
+        // plain `cargo test` never gets here: the test is ignored.)
+        println!("skipped: qemu-system-arm not found");
+        panic!("skipped: qemu-system-arm not found (the firmware check did not run)");
+    }
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/firmware/run.sh");
+    for board in ["m4f", "m0"] {
+        let out = std::process::Command::new(script)
+            .arg(board)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        println!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
+        assert!(out.status.success(), "run.sh {board} failed");
+        let crc = format!("crc32={:08x}", scene::EXPECTED_CRC32);
+        assert!(
+            stdout.lines().any(|l| l == crc),
+            "run.sh {board} did not print {crc}"
+        );
+    }
+}

@@ -1,0 +1,420 @@
+//! The scene format: what it accepts, and a clear error naming field and line for everything it
+//! rejects. The desktop renderer calls the same `scene_file::load`.
+
+use microray::scene_file::{parse, Desktop};
+use microray::{Color, Encoding, Light, Vec3};
+
+const CAMERA: &str = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n";
+
+fn parse_desktop(text: &str) -> Result<Desktop, microray::scene_file::SceneError> {
+    parse(text)
+}
+
+/// Parses `CAMERA + rest`, expects a rejection, and checks the error names `field` on `line`.
+fn rejects(rest: &str, line: usize, field: &str, message: &str) {
+    let text = format!("{CAMERA}{rest}");
+    let err = parse_desktop(&text)
+        .err()
+        .unwrap_or_else(|| panic!("accepted:\n{text}"));
+    assert_eq!(err.line, Some(line), "{err}");
+    assert_eq!(err.field.as_deref(), Some(field), "{err}");
+    assert!(err.message.contains(message), "{err}: expected {message:?}");
+    assert!(!err.io);
+    assert!(!err.to_string().contains('\n'), "one line: {err}");
+}
+
+#[test]
+fn defaults_and_shorthands() {
+    let text = format!(
+        "{CAMERA}[[sphere]]\ncenter = [1, 2, 3]\nradius = 2\ndiffuse = 0.5\n\
+         [[light]]\nkind = \"point\"\nposition = [0, 9, 0]\n\
+         [[light]]\nkind = \"directional\"\ndirection = [0, -3, 0]\nintensity = [1, 0.5, 0]\n"
+    );
+    let f = parse_desktop(&text).unwrap();
+    assert_eq!(
+        (f.width, f.height, f.options.samples, f.options.encoding),
+        (640, 480, 1, Encoding::Linear)
+    );
+    assert_eq!(f.view.up, Vec3::new(0.0, 1.0, 0.0));
+    assert_eq!(f.view.vfov, 60.0);
+    assert!(f.scene.shadows());
+    assert_eq!(
+        (f.scene.max_depth(), f.scene.ambient(), f.scene.background()),
+        (3, Color::ZERO, Color::ZERO)
+    );
+    let m = f.scene.materials()[0];
+    assert_eq!(
+        (m.diffuse, m.specular, m.shininess, m.mirror),
+        (Color::splat(0.5), Color::ZERO, 32.0, Color::ZERO)
+    );
+    assert_eq!(f.scene.spheres()[0].center, Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(
+        f.scene.lights()[0],
+        Light::Point {
+            position: Vec3::new(0.0, 9.0, 0.0),
+            intensity: Color::ONE
+        }
+    );
+    assert_eq!(
+        f.scene.lights()[1],
+        Light::Directional {
+            direction: Vec3::new(0.0, -1.0, 0.0),
+            intensity: Color::new(1.0, 0.5, 0.0)
+        }
+    );
+}
+
+#[test]
+fn render_section() {
+    let f = parse_desktop(&format!(
+        "{CAMERA}[render]\nwidth = 32\nheight = 16\nbackground = [0.1, 0.2, 0.3]\nambient = 1\n\
+         shadows = false\nmax_depth = 0\nsamples = 16\nencoding = \"srgb\"\n"
+    ))
+    .unwrap();
+    assert_eq!(
+        (f.width, f.height, f.camera.width(), f.camera.height()),
+        (32, 16, 32, 16)
+    );
+    assert_eq!(f.scene.background(), Color::new(0.1, 0.2, 0.3));
+    assert_eq!(f.scene.ambient(), Color::ONE);
+    assert!(!f.scene.shadows());
+    assert_eq!(
+        (f.scene.max_depth(), f.options.samples, f.options.encoding),
+        (0, 16, Encoding::Srgb)
+    );
+}
+
+#[test]
+fn unknown_keys() {
+    rejects(
+        "[render]\nwidht = 3\n",
+        5,
+        "render.widht",
+        "unknown field `widht`",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\ncolour = 1\n",
+        7,
+        "sphere[0].colour",
+        "unknown field",
+    );
+    rejects("[lights]\n", 4, "lights", "unknown field `lights`");
+    rejects(
+        "[[light]]\nkind = \"point\"\nposition = [0, 1, 0]\ndirection = [0, 1, 0]\n",
+        7,
+        "light[0].direction",
+        "not allowed",
+    );
+}
+
+#[test]
+fn missing_fields() {
+    let err = parse_desktop("[camera]\neye = [0, 0, 5]\n").unwrap_err();
+    assert_eq!((err.line, err.field.as_deref()), (Some(1), Some("camera")));
+    assert!(err.message.contains("missing field `look_at`"), "{err}");
+    assert!(parse_desktop("")
+        .unwrap_err()
+        .message
+        .contains("missing field `camera`"));
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\n[[sphere]]\nradius = 1\n",
+        7,
+        "sphere[1]",
+        "missing field `center`",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\n",
+        4,
+        "sphere[0]",
+        "missing field `radius`",
+    ); // the header line
+    rejects(
+        "[[light]]\nkind = \"point\"\n",
+        4,
+        "light[0].position",
+        "missing",
+    );
+    rejects(
+        "[[light]]\nkind = \"directional\"\n",
+        4,
+        "light[0].direction",
+        "missing",
+    );
+    rejects(
+        "[[light]]\nposition = [0, 1, 0]\n",
+        4,
+        "light[0]",
+        "missing field `kind`",
+    );
+}
+
+#[test]
+fn wrong_types() {
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = \"big\"\n",
+        6,
+        "sphere[0].radius",
+        "invalid type",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0]\nradius = 1\n",
+        5,
+        "sphere[0].center",
+        "invalid length 2",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0, 0]\nradius = 1\n",
+        5,
+        "sphere[0].center",
+        "invalid length",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\ndiffuse = \"red\"\n",
+        7,
+        "sphere[0].diffuse",
+        "invalid type",
+    );
+    rejects("[render]\nwidth = 1.5\n", 5, "render.width", "invalid type");
+    rejects(
+        "[render]\nshadows = 1\n",
+        5,
+        "render.shadows",
+        "invalid type",
+    );
+    rejects(
+        "[render]\nencoding = \"gamma\"\n",
+        5,
+        "render.encoding",
+        "\"linear\" or \"srgb\"",
+    );
+    rejects(
+        "[[light]]\nkind = \"spot\"\nposition = [0, 1, 0]\n",
+        5,
+        "light[0].kind",
+        "\"point\" or \"directional\"",
+    );
+}
+
+#[test]
+fn nan_and_infinity() {
+    rejects(
+        "[[sphere]]\ncenter = [0, nan, 0]\nradius = 1\n",
+        5,
+        "sphere[0].center",
+        "finite",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = inf\n",
+        6,
+        "sphere[0].radius",
+        "finite",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1e39\n",
+        6,
+        "sphere[0].radius",
+        "f32 range",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nspecular = nan\n",
+        7,
+        "sphere[0].specular",
+        "finite",
+    );
+    rejects(
+        "[[light]]\nkind = \"point\"\nposition = [0, -inf, 0]\n",
+        6,
+        "light[0].position",
+        "finite",
+    );
+    let err = parse_desktop("[camera]\neye = [0, 0, nan]\nlook_at = [0, 0, 0]\n").unwrap_err();
+    assert_eq!(
+        (err.line, err.field.as_deref()),
+        (Some(2), Some("camera.eye"))
+    );
+}
+
+#[test]
+fn invalid_values() {
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = 0\n",
+        6,
+        "sphere[0].radius",
+        "> 0",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = -2\n",
+        6,
+        "sphere[0].radius",
+        "> 0",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\ndiffuse = [0.5, -0.1, 0]\n",
+        7,
+        "sphere[0].diffuse",
+        ">= 0",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nmirror = -1\n",
+        7,
+        "sphere[0].mirror",
+        ">= 0",
+    );
+    rejects(
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\nshininess = 0\n",
+        7,
+        "sphere[0].shininess",
+        "> 0",
+    );
+    rejects(
+        "[render]\nbackground = [0, 0, -1]\n",
+        5,
+        "render.background",
+        ">= 0",
+    );
+    rejects("[render]\nambient = -0.5\n", 5, "render.ambient", ">= 0");
+    rejects(
+        "[[light]]\nkind = \"point\"\nposition = [0, 1, 0]\nintensity = -1\n",
+        7,
+        "light[0].intensity",
+        ">= 0",
+    );
+    rejects(
+        "[[light]]\nkind = \"directional\"\ndirection = [0, 0, 0]\n",
+        6,
+        "light[0].direction",
+        "zero",
+    );
+}
+
+#[test]
+fn invalid_cameras() {
+    let cases = [
+        (
+            "eye = [1, 2, 3]\nlook_at = [1, 2, 3]\n",
+            3,
+            "camera.look_at",
+            "must differ",
+        ),
+        (
+            "eye = [0, 5, 0]\nlook_at = [0, 0, 0]\n",
+            1,
+            "camera.up",
+            "parallel",
+        ),
+        (
+            "eye = [0, 0, 5]\nlook_at = [0, 0, 0]\nup = [0, 0, 2]\n",
+            4,
+            "camera.up",
+            "parallel",
+        ),
+        (
+            "eye = [0, 0, 5]\nlook_at = [0, 0, 0]\nup = [0, 0, 0]\n",
+            4,
+            "camera.up",
+            "zero",
+        ),
+        (
+            "eye = [0, 0, 5]\nlook_at = [0, 0, 0]\nvfov = 0\n",
+            4,
+            "camera.vfov",
+            "(0, 180)",
+        ),
+        (
+            "eye = [0, 0, 5]\nlook_at = [0, 0, 0]\nvfov = 180\n",
+            4,
+            "camera.vfov",
+            "(0, 180)",
+        ),
+        (
+            "eye = [0, 0, 5]\nlook_at = [0, 0, 0]\nvfov = -10\n",
+            4,
+            "camera.vfov",
+            "(0, 180)",
+        ),
+    ];
+    for (body, line, field, msg) in cases {
+        let err = parse_desktop(&format!("[camera]\n{body}")).unwrap_err();
+        assert_eq!(
+            (err.line, err.field.as_deref()),
+            (Some(line), Some(field)),
+            "{err}"
+        );
+        assert!(err.message.contains(msg), "{err}");
+    }
+}
+
+#[test]
+fn out_of_range_settings() {
+    rejects("[render]\nwidth = 0\n", 5, "render.width", "1..=16384");
+    rejects(
+        "[render]\nheight = 16385\n",
+        5,
+        "render.height",
+        "1..=16384",
+    );
+    rejects("[render]\nwidth = -640\n", 5, "render.width", "1..=16384");
+    rejects("[render]\nsamples = 0\n", 5, "render.samples", "1..=16");
+    rejects("[render]\nsamples = 17\n", 5, "render.samples", "1..=16");
+    rejects(
+        "[render]\nmax_depth = 17\n",
+        5,
+        "render.max_depth",
+        "0..=16",
+    );
+    rejects(
+        "[render]\nmax_depth = -1\n",
+        5,
+        "render.max_depth",
+        "0..=16",
+    );
+}
+
+#[test]
+fn more_than_capacity_is_an_error_not_a_truncation() {
+    let sphere = "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\n";
+    let light = "[[light]]\nkind = \"point\"\nposition = [0, 9, 0]\n";
+    assert_eq!(
+        parse_desktop(&format!("{CAMERA}{}", sphere.repeat(1024)))
+            .unwrap()
+            .scene
+            .spheres()
+            .len(),
+        1024
+    );
+    rejects(
+        &sphere.repeat(1025),
+        4 + 3 * 1024,
+        "sphere",
+        "1025 spheres, more than the capacity of 1024",
+    );
+    assert_eq!(
+        parse_desktop(&format!("{CAMERA}{}", light.repeat(32)))
+            .unwrap()
+            .scene
+            .lights()
+            .len(),
+        32
+    );
+    rejects(
+        &light.repeat(33),
+        4 + 3 * 32,
+        "light",
+        "33 lights, more than the capacity of 32",
+    );
+    // a small capacity chosen by the caller is enforced the same way
+    let err = parse::<2, 1>(&format!("{CAMERA}{}", sphere.repeat(3))).unwrap_err();
+    assert!(err.message.contains("capacity of 2"), "{err}");
+}
+
+#[test]
+fn syntax_errors_have_a_line() {
+    rejects(
+        "[[sphere]\ncenter = [0, 0, 0]\n",
+        4,
+        "sphere[0]",
+        "invalid table header",
+    );
+    let err = parse_desktop("[camera]\neye = [0, 0, 5\nlook_at = [0, 0, 0]\n").unwrap_err();
+    assert!(err.line.is_some(), "{err}");
+}
