@@ -2,18 +2,22 @@
 //!
 //! # How a frame is traced fast
 //!
-//! [`Frame::new`] computes what all rays of the frame share: for the eye and every point light
-//! (when shadows are on), `o − m` and `|o − m|² − r²` of every sphere ([`Prepared::exact`]),
-//! and for every sphere its exact, conservative screen-space box ([`crate::raster`]).
+//! [`Frame::new`] computes what all rays of the frame share: for the eye, `o − m` and
+//! `|o − m|² − r²` of every sphere ([`Prepared::exact`]); for every point light (when shadows
+//! are on) the `c = |o − m|² − r²` of those constants (the rest is rebuilt exactly when used);
+//! for every sphere its exact, conservative screen-space box ([`crate::raster`]); and for every
+//! light (with shadows) its spheres sorted by a 1-D key, to find shadow candidates by a binary
+//! search.
 //! [`Frame::render_rows`] then walks each row in spans of [`SPAN`] pixels:
 //!
 //! 1. the row's spheres are those whose box crosses it, the span's those whose box overlaps
 //!    the span, in scene order; a primary ray tests only the span's spheres whose box holds
 //!    its pixel;
-//! 2. with shadows on, the span's primary hit points are traced first and bounded by a ball;
-//!    each light keeps, for this span, only the spheres that can meet a shadow ray from that
-//!    ball (for a point light: the cone hull of the light and the ball; for a directional
-//!    light: the ball swept along the light); shadow rays stop at the first blocker;
+//! 2. with shadows on, the span's primary hits are traced first, grouped by the sphere hit and
+//!    each group bounded by a ball; for each group and light, only the spheres that can meet a
+//!    shadow ray from that ball are kept (for a point light: the cone hull of the light and the
+//!    ball; for a directional light: the ball swept along the light), found in the light's
+//!    sorted band; shadow rays stop at the first blocker;
 //! 3. the pixels are shaded with those lists.
 //!
 //! Every list is a superset of the spheres the full test could report, and the tests
