@@ -44,6 +44,7 @@ pub mod error;
 pub mod geometry;
 pub mod math;
 pub mod output;
+pub mod raster;
 pub mod render;
 pub mod scene;
 #[cfg(feature = "scene-file")]

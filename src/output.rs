@@ -70,7 +70,7 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
         let w = self.width();
         for j in 0..self.height() {
             let row = Rectangle::new(Point::new(0, j as i32), Size::new(w, 1));
-            target.fill_contiguous(&row, (0..w).map(|i| self.pixel(i, j).into()))?;
+            target.fill_contiguous(&row, self.row(j).map(Into::into))?;
         }
         Ok(())
     }
@@ -102,8 +102,9 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
         }
         for (r, row) in buf.chunks_exact_mut(w).enumerate() {
             let j = first_row + r as u32;
-            for (i, px) in row.iter_mut().enumerate() {
-                *px = dither_rgb565(self.pixel(i as u32, j), i as u32, j);
+            // Traced row by row with the renderer's culling (the same pixels as `pixel`).
+            for (i, (px, c)) in row.iter_mut().zip(self.row(j)).enumerate() {
+                *px = dither_rgb565(c, i as u32, j);
             }
         }
         Ok(rows as u32)
@@ -133,7 +134,8 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
         let w = self.width();
         for j in 0..self.height() {
             let row = Rectangle::new(Point::new(0, j as i32), Size::new(w, 1));
-            let colours = (0..w).map(|i| dither_rgb565(self.pixel(i, j), i, j).into());
+            let colours =
+                (self.row(j).enumerate()).map(|(i, c)| dither_rgb565(c, i as u32, j).into());
             target.fill_contiguous(&row, colours)?;
         }
         Ok(())

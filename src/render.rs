@@ -1,13 +1,43 @@
 //! Rendering: per-frame constants, the pixel loop, supersampling and pixel encoding.
+//!
+//! # How a frame is traced fast
+//!
+//! [`Frame::new`] computes what all rays of the frame share: for the eye, `o − m` and
+//! `|o − m|² − r²` of every sphere ([`Prepared::exact`]); for every point light (when shadows
+//! are on) the `c = |o − m|² − r²` of those constants (the rest is rebuilt exactly when used);
+//! for every sphere its exact, conservative screen-space box ([`crate::raster`]); and for every
+//! light (with shadows) its spheres sorted by a 1-D key, to find shadow candidates by a binary
+//! search.
+//! [`Frame::render_rows`] then walks each row in spans of [`SPAN`] pixels:
+//!
+//! 1. the row's spheres are those whose box crosses it, the span's those whose box overlaps
+//!    the span, in scene order; a primary ray tests only the span's spheres whose box holds
+//!    its pixel;
+//! 2. with shadows on, the span's primary hits are traced first, grouped by the sphere hit and
+//!    each group bounded by a ball; for each group and light, only the spheres that can meet a
+//!    shadow ray from that ball are kept (for a point light: the cone hull of the light and the
+//!    ball; for a directional light: the ball swept along the light), found in the light's
+//!    sorted band; shadow rays stop at the first blocker;
+//! 3. the pixels are shaded with those lists.
+//!
+//! Every list is a superset of the spheres the full test could report, and the tests
+//! themselves are the brute-force ones, in the same order where order matters (the closest
+//! hit keeps the last of equal `t`s): the pixels are the brute-force pixels, bit for bit
+//! ([`Frame::render_rows_brute`] is kept as the reference). Mirror rays, which leave from
+//! anywhere, are traced against every sphere.
+//!
+//! A scene pays only for what it has: without lights or shadows, step 2 is skipped; no
+//! specular or mirror work is done for materials without them.
 
 use embedded_graphics::pixelcolor::Rgb888;
 
 use crate::camera::Camera;
 use crate::error::Error;
 use crate::geometry::{Prepared, Ray};
-use crate::math::{powf, Color};
+use crate::math::{powf, Color, Vec3};
+use crate::raster::{PixelBox, Screen, ETA};
 use crate::scene::{make_hit, Hit, Light, Scene};
-use crate::shading::{follow, in_shadow, shade_local, T_EPS};
+use crate::shading::{follow, in_shadow_among, shade_local, T_EPS};
 
 /// How linear colour becomes a byte.
 ///
@@ -83,8 +113,12 @@ pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
     (255.0 * e + 0.5) as u8
 }
 
+/// Pixels per span: the unit for which the renderer gathers candidate spheres.
+pub const SPAN: usize = 32;
+
 /// A scene, a camera and options, with everything that all rays of the frame share computed
-/// once: `o − m` and `|o − m|² − r²` of every sphere for the eye and for every point light.
+/// once: `o − m` and `|o − m|² − r²` of every sphere for the eye and for every point light,
+/// and every sphere's box on the screen.
 ///
 /// Build it once, then render the whole image, bands of rows, single pixels, or draw onto an
 /// embedded-graphics display.
@@ -113,10 +147,23 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     samples: u32,
     encoding: Encoding,
     eye: heapless::Vec<Prepared, S>,
-    lights: [heapless::Vec<Prepared, S>; L],
+    boxes: heapless::Vec<PixelBox, S>,
+    /// Per point light (with shadows), `c` of [`Prepared::exact`] from the light for every
+    /// sphere; the rest of those constants is rebuilt exactly when needed.
+    lights: [heapless::Vec<f32, S>; L],
+    /// Per light (with shadows), its spheres sorted for the span culling.
+    sweeps: [Sweep<S>; L],
+    /// Shadows on and at least one light: the only case that casts shadow rays.
+    shadow_rays: bool,
 }
 
+/// Sphere indices: a row's, a span's or a light's candidates.
+type List<const S: usize> = heapless::Vec<u16, S>;
+
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
+    /// Sphere indices are stored as `u16`, two values kept as markers.
+    const FITS: () = assert!(S < REST as usize, "sphere capacity above 65533");
+
     /// Prepares a frame; fails only for invalid options (`samples` outside 1..=16).
     ///
     /// ```
@@ -132,6 +179,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         camera: &'a Camera,
         options: RenderOptions,
     ) -> Result<Self, Error> {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::FITS;
         if !(1..=16).contains(&options.samples) {
             return Err(Error::InvalidSamples);
         }
@@ -144,9 +193,26 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             v
         };
         let eye = prepare(camera.eye());
+        let screen = Screen::new(camera);
+        let mut boxes = heapless::Vec::new();
+        for k in &eye {
+            let _ = boxes.push(screen.sphere_box(k));
+        }
         let lights = core::array::from_fn(|i| match scene.lights().get(i) {
-            Some(Light::Point { position, .. }) if scene.shadows() => prepare(*position),
+            Some(Light::Point { position, .. }) if scene.shadows() => {
+                let mut v = heapless::Vec::new();
+                for s in scene.spheres() {
+                    // Capacity S, at most S spheres: cannot fail.
+                    let _ = v.push(Prepared::exact(*position, s).c);
+                }
+                v
+            }
             _ => heapless::Vec::new(),
+        });
+        let axes = camera.basis();
+        let sweeps = core::array::from_fn(|i| match scene.lights().get(i) {
+            Some(light) if scene.shadows() => Sweep::new(light, scene.spheres(), axes.0, axes.1),
+            _ => Sweep::empty(),
         });
         Ok(Frame {
             scene,
@@ -154,7 +220,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             samples: options.samples as u32,
             encoding: options.encoding,
             eye,
+            boxes,
             lights,
+            sweeps,
+            shadow_rays: scene.shadows() && !scene.lights().is_empty(),
         })
     }
 
@@ -186,25 +255,112 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         self.camera.height()
     }
 
-    /// The closest hit of a primary ray (one that starts at the eye).
+    /// The screen box of every sphere, in scene order: a primary ray through pixel `(i, j)`
+    /// can hit sphere `s` only if `boxes()[s]` contains `(i, j)`.
+    ///
+    /// ```
+    /// # use microray::{Camera, Frame, Material, RenderOptions, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<2, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::ZERO, 0.5), Material::default())?;
+    /// scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, 9.0), 1.0), Material::default())?; // behind
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 64, 64)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let b = frame.boxes()[0];
+    /// assert!(b.contains(32, 32) && !b.contains(0, 0));
+    /// assert!(frame.boxes()[1].is_empty());
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn boxes(&self) -> &[PixelBox] {
+        &self.boxes
+    }
+
+    /// The closest hit of a primary ray (one that starts at the eye), against every sphere.
     #[inline]
     fn primary_hit(&self, ray: &Ray) -> Option<Hit> {
-        let mut best: Option<(f32, usize)> = None;
+        let mut best: Option<(f32, usize, &Prepared)> = None;
         let mut tmax = f32::INFINITY;
         for (i, k) in self.eye.iter().enumerate() {
             if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
                 tmax = t;
-                best = Some((t, i));
+                best = Some((t, i, k));
             }
         }
-        // `get`, not `[i]`: the compiler cannot prove i in bounds and would link a panic.
-        let (t, i) = best?;
-        let k = self.eye.get(i)?;
+        let (t, i, k) = best?;
         let sphere = self.scene.spheres().get(i)?;
         Some(make_hit(ray, t, i, k.f, sphere))
     }
 
-    /// The linear colour seen along a primary ray from the eye.
+    /// The closest hit of the primary ray through column `i`, against the spheres of `cands`
+    /// (in scene order) whose box holds that column (the row is the caller's).
+    #[inline]
+    fn primary_hit_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<Hit> {
+        let mut best: Option<(f32, usize, &Prepared)> = None;
+        let mut tmax = f32::INFINITY;
+        for &s in cands {
+            let s = s as usize;
+            let (Some(b), Some(k)) = (self.boxes.get(s), self.eye.get(s)) else {
+                continue;
+            };
+            if i < b.i0 as u32 || i > b.i1 as u32 {
+                continue;
+            }
+            if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
+                tmax = t;
+                best = Some((t, s, k));
+            }
+        }
+        let (t, s, k) = best?;
+        let sphere = self.scene.spheres().get(s)?;
+        Some(make_hit(ray, t, s, k.f, sphere))
+    }
+
+    /// The per-light constants of light `i` (empty unless it is a point light with shadows).
+    #[inline]
+    fn light_consts(&self, i: usize, light: &Light) -> Option<&[f32]> {
+        match light {
+            Light::Point { .. } => self.lights.get(i).map(|v| &v[..]),
+            Light::Directional { .. } => None,
+        }
+    }
+
+    /// Shades a primary hit (and its mirror bounces): `shadow`, when given, holds per light
+    /// the spheres that can block shadow rays from this primary hit; mirror hits and a
+    /// missing `shadow` test every sphere.
+    #[inline]
+    fn shade_from(&self, ray: &Ray, first: Option<Hit>, shadow: Option<&Cull<S, L>>) -> Color {
+        let scene = self.scene;
+        let mut primary = true;
+        follow(scene, ray, first, |hit, ray| {
+            let lists = if core::mem::replace(&mut primary, false) {
+                shadow
+            } else {
+                None
+            };
+            shade_local(scene, hit, ray.dir, |i| {
+                // `get`, not `[i]`: no bounds-check panic linked into the render path.
+                scene.shadows()
+                    && scene.lights().get(i).is_some_and(|light| {
+                        let cs = self.light_consts(i, light);
+                        let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
+                        match lists.and_then(|l| l.light(hit.sphere, i)) {
+                            Some(cands) => in_shadow_among(
+                                scene,
+                                hit,
+                                light,
+                                consts,
+                                cands.iter().map(|&j| j as usize),
+                            ),
+                            None => {
+                                in_shadow_among(scene, hit, light, consts, 0..scene.spheres().len())
+                            }
+                        }
+                    })
+            })
+        })
+    }
+
+    /// The linear colour seen along a primary ray from the eye, tested against every sphere:
+    /// the brute-force reference of the renderer (it takes any ray, so no screen box applies).
     ///
     /// ```
     /// # use microray::{Camera, Color, Frame, RenderOptions, Scene, Vec3};
@@ -216,25 +372,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn trace(&self, ray: &Ray) -> Color {
-        let scene = self.scene;
-        let first = self.primary_hit(ray);
-        follow(scene, ray, first, |hit, ray| {
-            shade_local(scene, hit, ray.dir, |i| {
-                // `get`, not `[i]`: i < lights().len() ≤ L always, but the compiler cannot prove
-                // it and would link a bounds-check panic into the render path.
-                scene.shadows()
-                    && scene.lights().get(i).is_some_and(|light| {
-                        let consts = match light {
-                            Light::Point { .. } => self.lights.get(i).map(|v| &v[..]),
-                            Light::Directional { .. } => None,
-                        };
-                        in_shadow(scene, hit, light, consts)
-                    })
-            })
-        })
+        self.shade_from(ray, self.primary_hit(ray), None)
     }
 
     /// The linear colour of pixel `(i, j)`: the average of its `samples²` rays, unclamped.
+    /// Primary rays test only the spheres whose screen box holds the pixel; shadow rays test
+    /// every sphere (use [`Frame::render_rows`] for whole rows, which culls those too).
     ///
     /// ```
     /// # use microray::{Camera, Color, Frame, RenderOptions, Scene, Vec3};
@@ -246,17 +389,58 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn pixel_color(&self, i: u32, j: u32) -> Color {
+        let mut cands: List<S> = heapless::Vec::new();
+        for (s, b) in self.boxes.iter().enumerate() {
+            if b.contains(i, j) {
+                let _ = cands.push(s as u16);
+            }
+        }
+        self.average(i, j, |ray| {
+            self.shade_from(ray, self.primary_hit_among(ray, i, &cands), None)
+        })
+    }
+
+    /// [`Frame::pixel_color`] the brute-force way: every ray against every sphere. The
+    /// reference that the accelerated paths must equal bit for bit.
+    ///
+    /// ```
+    /// # use microray::{Camera, Color, Frame, Material, RenderOptions, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// assert_eq!(frame.pixel_color_brute(4, 4), frame.pixel_color(4, 4));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn pixel_color_brute(&self, i: u32, j: u32) -> Color {
+        self.average(i, j, |ray| self.trace(ray))
+    }
+
+    /// The average over the pixel's `samples²` rays of `f(ray)`.
+    #[inline]
+    fn average(&self, i: u32, j: u32, mut f: impl FnMut(&Ray) -> Color) -> Color {
         let n = self.samples;
         if n == 1 {
-            return self.trace(&self.camera.view_ray(i, j, 0, 0, 1));
+            return f(&self.camera.view_ray(i, j, 0, 0, 1));
         }
         let mut sum = Color::ZERO;
         for sy in 0..n {
             for sx in 0..n {
-                sum += self.trace(&self.camera.view_ray(i, j, sx, sy, n));
+                sum += f(&self.camera.view_ray(i, j, sx, sy, n));
             }
         }
         sum / (n * n) as f32
+    }
+
+    /// A linear colour encoded as a pixel.
+    #[inline]
+    fn encode(&self, c: Color) -> Rgb888 {
+        let e = self.encoding;
+        Rgb888::new(
+            encode_channel(c.x, e),
+            encode_channel(c.y, e),
+            encode_channel(c.z, e),
+        )
     }
 
     /// The encoded colour of pixel `(i, j)` (row 0 at the top).
@@ -272,13 +456,78 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn pixel(&self, i: u32, j: u32) -> Rgb888 {
-        let c = self.pixel_color(i, j);
-        let e = self.encoding;
-        Rgb888::new(
-            encode_channel(c.x, e),
-            encode_channel(c.y, e),
-            encode_channel(c.z, e),
-        )
+        self.encode(self.pixel_color(i, j))
+    }
+
+    /// The pixels of row `j`, left to right, traced span by span with every culling of
+    /// [`Frame::render_rows`]; for displays that consume a row as an iterator. Rows past the
+    /// image yield nothing.
+    ///
+    /// ```
+    /// # use embedded_graphics::pixelcolor::Rgb888;
+    /// # use microray::{Camera, Color, Frame, RenderOptions, Scene, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.set_background(Color::new(1.0, 0.5, 0.0))?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// assert!(frame.row(1).all(|p| p == Rgb888::new(255, 128, 0)));
+    /// assert_eq!(frame.row(1).count(), 4);
+    /// assert_eq!(frame.row(4).count(), 0);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn row(&self, j: u32) -> Row<'_, 'a, S, L> {
+        let mut cull = Cull::new();
+        let end = if j < self.height() {
+            self.start_row(j, &mut cull);
+            self.width()
+        } else {
+            0
+        };
+        Row {
+            frame: self,
+            j,
+            i: 0,
+            end,
+            cull,
+        }
+    }
+
+    /// Starts row `j`: its spheres are those whose box crosses it, in scene order.
+    fn start_row(&self, j: u32, cull: &mut Cull<S, L>) {
+        cull.row.clear();
+        for (s, b) in self.boxes.iter().enumerate() {
+            if b.has_row(j) {
+                let _ = cull.row.push(s as u16);
+            }
+        }
+        cull.span_end = 0;
+    }
+
+    /// The pixel `(i, j)` of a row started with [`Frame::start_row`], pixels taken in order.
+    #[inline]
+    fn next_pixel(&self, j: u32, i: u32, cull: &mut Cull<S, L>) -> Rgb888 {
+        if i >= cull.span_end {
+            cull.span_start = i;
+            cull.span_end = (i + SPAN as u32).min(self.width());
+            self.gather(j, cull);
+        }
+        let shadow = if cull.culled { Some(&*cull) } else { None };
+        let c = if cull.stored {
+            let k = (i - cull.span_start) as usize;
+            let ray = self.camera.view_ray(i, j, 0, 0, 1);
+            // The hit record again from (t, sphere): `make_hit` is a pure function of them.
+            let first = cull.hits.get(k).copied().flatten().and_then(|(t, s)| {
+                let p = self.eye.get(s as usize)?;
+                let sphere = self.scene.spheres().get(s as usize)?;
+                Some(make_hit(&ray, t, s as usize, p.f, sphere))
+            });
+            self.shade_from(&ray, first, shadow)
+        } else {
+            self.average(i, j, |ray| {
+                self.shade_from(ray, self.primary_hit_among(ray, i, &cull.span), shadow)
+            })
+        };
+        self.encode(c)
     }
 
     /// Renders rows `first_row ..` into `buf`, which holds a whole number of rows; returns how
@@ -306,16 +555,60 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         first_row: u32,
         buf: &mut [C],
     ) -> Result<u32, Error> {
+        let rows = self.check_rows(first_row, buf.len())?;
         let w = self.width() as usize;
-        let rows = buf.len() / w;
-        if buf.len() % w != 0 || first_row as usize + rows > self.height() as usize {
-            return Err(Error::BufferSize);
+        // One set of lists for the whole band, reset row by row.
+        let mut cull = Cull::new();
+        for (r, row) in buf.chunks_exact_mut(w).enumerate() {
+            let j = first_row + r as u32;
+            self.start_row(j, &mut cull);
+            for (i, px) in row.iter_mut().enumerate() {
+                *px = self.next_pixel(j, i as u32, &mut cull).into();
+            }
         }
+        Ok(rows)
+    }
+
+    /// [`Frame::render_rows`] the brute-force way, every ray against every sphere: the
+    /// reference for tests and benchmarks.
+    ///
+    /// ```
+    /// # use embedded_graphics::pixelcolor::Rgb888;
+    /// # use microray::{Camera, Frame, Material, RenderOptions, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let (mut a, mut b) = ([Rgb888::new(0, 0, 0); 64], [Rgb888::new(0, 0, 0); 64]);
+    /// frame.render_rows(0, &mut a)?;
+    /// frame.render_rows_brute(0, &mut b)?;
+    /// assert_eq!(a, b);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn render_rows_brute<C: From<Rgb888>>(
+        &self,
+        first_row: u32,
+        buf: &mut [C],
+    ) -> Result<u32, Error> {
+        let rows = self.check_rows(first_row, buf.len())?;
+        let w = self.width() as usize;
         for (r, row) in buf.chunks_exact_mut(w).enumerate() {
             let j = first_row + r as u32;
             for (i, px) in row.iter_mut().enumerate() {
-                *px = self.pixel(i as u32, j).into();
+                *px = self.encode(self.pixel_color_brute(i as u32, j)).into();
             }
+        }
+        Ok(rows)
+    }
+
+    /// How many rows a buffer of `len` pixels holds, if whole rows inside the image.
+    fn check_rows(&self, first_row: u32, len: usize) -> Result<u32, Error> {
+        let w = self.width() as usize; // ≥ 1 (Camera checks); checked_div links no panic
+        let (Some(rows), Some(0)) = (len.checked_div(w), len.checked_rem(w)) else {
+            return Err(Error::BufferSize);
+        };
+        if first_row as usize + rows > self.height() as usize {
+            return Err(Error::BufferSize);
         }
         Ok(rows as u32)
     }
@@ -337,5 +630,452 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             return Err(Error::BufferSize);
         }
         self.render_rows(0, buf).map(|_| ())
+    }
+
+    /// Gathers the span `[span_start, span_end)` of row `j`: its spheres from the row's, then
+    /// (with shadow rays) its primary hits, the ball bounding their points, and each light's
+    /// possible blockers.
+    fn gather(&self, j: u32, cull: &mut Cull<S, L>) {
+        let (i0, i1) = (cull.span_start, cull.span_end);
+        cull.span.clear();
+        for &s in &cull.row {
+            if let Some(b) = self.boxes.get(s as usize) {
+                if (b.i0 as u32) < i1 && b.i1 as u32 >= i0 {
+                    let _ = cull.span.push(s);
+                }
+            }
+        }
+        cull.culled = false;
+        cull.stored = false;
+        if !self.shadow_rays {
+            return;
+        }
+        // The span's primary hits (kept for shading when one sample per pixel), grouped by
+        // the sphere hit (a sphere and the wall behind it make poor company in one bound),
+        // and the box of each group's points.
+        let mut groups = [Group::EMPTY; GROUPS];
+        let mut extend = |h: &Hit| {
+            let g = group_of(&groups, h.sphere).unwrap_or_else(|| {
+                // A new group while there is room; the last one takes every other sphere.
+                let free = groups.iter().position(|g| g.sphere == NONE);
+                match free {
+                    Some(k) if k + 1 < GROUPS => k,
+                    _ => GROUPS - 1,
+                }
+            });
+            if let Some(gr) = groups.get_mut(g) {
+                if gr.sphere == NONE {
+                    gr.sphere = if g + 1 < GROUPS {
+                        h.sphere as u16
+                    } else {
+                        REST
+                    };
+                }
+                let p = h.point;
+                gr.lo = Vec3::new(gr.lo.x.min(p.x), gr.lo.y.min(p.y), gr.lo.z.min(p.z));
+                gr.hi = Vec3::new(gr.hi.x.max(p.x), gr.hi.y.max(p.y), gr.hi.z.max(p.z));
+            }
+        };
+        if self.samples == 1 {
+            for (k, i) in (i0..i1).enumerate() {
+                let ray = self.camera.view_ray(i, j, 0, 0, 1);
+                let h = self.primary_hit_among(&ray, i, &cull.span);
+                if let Some(h) = &h {
+                    extend(h);
+                }
+                if let Some(slot) = cull.hits.get_mut(k) {
+                    *slot = h.map(|h| (h.t, h.sphere as u16));
+                }
+            }
+            cull.stored = true;
+        } else {
+            for i in i0..i1 {
+                let _ = self.average(i, j, |ray| {
+                    if let Some(h) = self.primary_hit_among(ray, i, &cull.span) {
+                        extend(&h);
+                    }
+                    Color::ZERO
+                });
+            }
+        }
+        cull.culled = true;
+        cull.pool.clear();
+        cull.groups = [NONE; GROUPS];
+        for (g, group) in groups.iter().enumerate() {
+            let (Some(slot), Some(ranges)) = (cull.groups.get_mut(g), cull.ranges.get_mut(g))
+            else {
+                continue;
+            };
+            *slot = group.sphere;
+            if group.sphere == NONE {
+                continue;
+            }
+            let (lo, hi) = (group.lo, group.hi);
+            let q = (lo + hi) * 0.5;
+            let half = (hi - lo) * 0.5;
+            // Rounding of q and of the length: a relative pad far above it.
+            let rho = half.length() * (1.0 + 1e-5) + 1e-5 * q.max_abs() + f32::MIN_POSITIVE;
+            let bounded = rho.is_finite() && q.is_finite();
+            for (li, range) in ranges.iter_mut().enumerate() {
+                *range = None;
+                let Some(light) = self.scene.lights().get(li) else {
+                    continue;
+                };
+                if !bounded {
+                    continue;
+                }
+                let start = cull.pool.len() as u32;
+                let spheres = self.scene.spheres();
+                let mut full = false;
+                let mut consider = |s: u16| {
+                    if let Some(sphere) = spheres.get(s as usize) {
+                        if may_block(light, sphere.center, sphere.radius, q, rho)
+                            && cull.pool.push(s).is_err()
+                        {
+                            full = true;
+                        }
+                    }
+                };
+                match self.sweeps.get(li).and_then(|w| w.band(light, q, rho)) {
+                    // Only the spheres whose key is near the span's, and the wide ones.
+                    Some((sweep, key, band, slack)) => {
+                        for &s in sweep.wide() {
+                            consider(s);
+                        }
+                        let narrow = sweep.narrow();
+                        let first = narrow.partition_point(|e| e.0 < key - band);
+                        for e in narrow.get(first..).unwrap_or(&[]) {
+                            if e.0 > key + band {
+                                break;
+                            }
+                            if libm::fabsf(e.0 - key) <= e.1 + slack {
+                                consider(e.2);
+                            }
+                        }
+                    }
+                    None => {
+                        for s in 0..spheres.len() {
+                            consider(s as u16);
+                        }
+                    }
+                }
+                if full {
+                    // Out of room: this light tests every sphere for this group.
+                    cull.pool.truncate(start as usize);
+                } else {
+                    *range = Some((start, cull.pool.len() as u32));
+                }
+            }
+        }
+    }
+}
+
+/// Hit groups per span: hits on up to `GROUPS − 1` spheres get their own bound, the rest share
+/// the last.
+const GROUPS: usize = 4;
+/// An unused group.
+const NONE: u16 = u16::MAX;
+/// The group of every other sphere.
+const REST: u16 = u16::MAX - 1;
+
+/// The bound of one group's hit points.
+#[derive(Debug, Clone, Copy)]
+struct Group {
+    sphere: u16,
+    lo: Vec3,
+    hi: Vec3,
+}
+
+impl Group {
+    const EMPTY: Group = Group {
+        sphere: NONE,
+        lo: Vec3::splat(f32::INFINITY),
+        hi: Vec3::splat(f32::NEG_INFINITY),
+    };
+}
+
+/// The group that holds hits on `sphere`, if there is one yet (the rest group when full).
+#[inline]
+fn group_of(groups: &[Group; GROUPS], sphere: usize) -> Option<usize> {
+    let mut rest = None;
+    for (g, gr) in groups.iter().enumerate() {
+        if gr.sphere as usize == sphere && gr.sphere < REST {
+            return Some(g);
+        }
+        if gr.sphere == REST {
+            rest = Some(g);
+        }
+    }
+    rest
+}
+
+/// Angular margin of the sweep keys of point lights (radians): far above `atan2f`'s error.
+const ANGLE_MARGIN: f32 = 1e-4;
+
+/// One light's spheres sorted by a 1-D key, so that a span finds its possible shadow blockers
+/// by a binary search instead of testing every sphere: for a point light, the angle between
+/// a fixed axis and the direction from the light to the sphere, with the half-angle of the
+/// sphere's (padded) cone as half-width; for a directional light, the position along an axis
+/// across the light, with the padded radius as half-width. A sphere can block a shadow ray
+/// from a span only if its key interval meets the span's (the angle between two directions is
+/// at least the difference of their angles to a third; a distance at least the difference of
+/// its projections), so the band is a superset of [`may_block`]'s answers, which then decides.
+/// Spheres much wider than the rest (a ground, a wall) would widen every band: they are kept
+/// apart and always tested.
+#[derive(Debug)]
+struct Sweep<const S: usize> {
+    /// The wide spheres first (`wide` of them, keys unused), then the rest as
+    /// `(key, half-width, sphere)` sorted by key.
+    entries: heapless::Vec<(f32, f32, u16), S>,
+    wide: usize,
+    /// The largest half-width of the sorted ones.
+    hw_max: f32,
+    /// The key axis (unit).
+    axis: Vec3,
+}
+
+impl<const S: usize> Sweep<S> {
+    const fn empty() -> Self {
+        Sweep {
+            entries: heapless::Vec::new(),
+            wide: 0,
+            hw_max: 0.0,
+            axis: Vec3::ZERO,
+        }
+    }
+
+    fn new(light: &Light, spheres: &[crate::Sphere], u: Vec3, v: Vec3) -> Self {
+        let mut sweep = Self::empty();
+        let axis = match *light {
+            Light::Point { .. } => Some(u),
+            Light::Directional { direction, .. } => {
+                // An axis across the light: the camera's right (or up) vector without its
+                // component along the light.
+                let across = |a: Vec3| a - direction * a.dot(direction);
+                let a = across(u);
+                let a = if a.dot(a) > 0.01 { a } else { across(v) };
+                a.normalized()
+            }
+        };
+        let Some(axis) = axis else {
+            return sweep;
+        };
+        sweep.axis = axis;
+        let mut all: heapless::Vec<(f32, f32, u16), S> = heapless::Vec::new();
+        for (s, sphere) in spheres.iter().enumerate() {
+            let (m, r) = (sphere.center, sphere.radius);
+            let l1 = |w: Vec3| libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z);
+            let e = match *light {
+                Light::Point { position, .. } => {
+                    // The same padded radius as `may_block`.
+                    let w = m - position;
+                    let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(w) + r);
+                    let ww = w.dot(w);
+                    if !(ww > big * big * 1.01) {
+                        (0.0, f32::INFINITY, s as u16) // the light inside or near: wide
+                    } else {
+                        let key = libm::atan2f(axis.cross(w).length(), axis.dot(w));
+                        let hw = libm::atan2f(big, libm::sqrtf(ww - big * big));
+                        (key, hw, s as u16)
+                    }
+                }
+                Light::Directional { .. } => {
+                    // `may_block` pads with 2η|m − q|₁ ≤ 2η(|m|₁ + |q|₁); the |q|₁ part and
+                    // the rounding of keys (1e-5 of |m|₁, |q|₁) are added per span.
+                    let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(m) + r) + 1e-5 * l1(m);
+                    (axis.dot(m), big, s as u16)
+                }
+            };
+            let _ = all.push(e);
+        }
+        // "Wide": more than 8 times the median half-width.
+        let mut hws: heapless::Vec<f32, S> = all.iter().map(|e| e.1).collect();
+        hws.sort_unstable_by(|a, b| a.total_cmp(b));
+        let median = hws.get(hws.len() / 2).copied().unwrap_or(0.0);
+        let is_wide = |e: &(f32, f32, u16)| !(e.1 <= 8.0 * median) || !e.0.is_finite();
+        for e in all.iter().filter(|e| is_wide(e)) {
+            let _ = sweep.entries.push(*e);
+        }
+        sweep.wide = sweep.entries.len();
+        for e in all.iter().filter(|e| !is_wide(e)) {
+            let _ = sweep.entries.push(*e);
+            sweep.hw_max = sweep.hw_max.max(e.1);
+        }
+        if let Some(narrow) = sweep.entries.get_mut(sweep.wide..) {
+            narrow.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        }
+        sweep
+    }
+
+    fn wide(&self) -> impl Iterator<Item = &u16> {
+        self.entries.iter().take(self.wide).map(|e| &e.2)
+    }
+
+    fn narrow(&self) -> &[(f32, f32, u16)] {
+        self.entries.get(self.wide..).unwrap_or(&[])
+    }
+
+    /// For shadow rays from the ball `(q, rho)`: `(self, key, band, slack)` where the spheres
+    /// to consider have `|key_j − key| ≤ half-width_j + slack` (so `key_j` within `band`), or
+    /// `None` when the sweep does not apply (no axis, or the light inside the ball).
+    fn band(&self, light: &Light, q: Vec3, rho: f32) -> Option<(&Self, f32, f32, f32)> {
+        if self.axis == Vec3::ZERO {
+            return None;
+        }
+        let l1 = libm::fabsf(q.x) + libm::fabsf(q.y) + libm::fabsf(q.z);
+        let (key, slack) = match *light {
+            Light::Point { position, .. } => {
+                let v = q - position;
+                let vv = v.dot(v);
+                if !(vv > rho * rho * 1.01) {
+                    return None;
+                }
+                let key = libm::atan2f(self.axis.cross(v).length(), self.axis.dot(v));
+                let theta = libm::atan2f(rho, libm::sqrtf(vv - rho * rho));
+                (key, theta + ANGLE_MARGIN)
+            }
+            Light::Directional { .. } => (
+                self.axis.dot(q),
+                rho + 2.0 * ETA * (l1 + rho) + rho + 1e-5 * l1,
+            ),
+        };
+        if !(key.is_finite() && slack.is_finite()) {
+            return None;
+        }
+        Some((self, key, self.hw_max + slack, slack))
+    }
+}
+
+/// Whether a sphere (centre `m`, radius `r`) can block a shadow ray towards `light` from some
+/// point of the ball `(q, rho)`: a conservative test, padded well beyond the rounding of the
+/// shadow test itself and of this one.
+#[inline]
+fn may_block(light: &Light, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
+    match *light {
+        Light::Point { position, .. } => {
+            // Shadow rays run from the light to points of the ball: the segments fill the
+            // cone hull of the light and the ball, whose section at λ ∈ [0, 1] along
+            // v = q − light is the ball (light + λ v, λ ρ). The sphere misses it iff
+            // g(λ) = |w − λ v|² − (R + λ ρ)² > 0 on [0, 1], w = m − light.
+            let w = m - position;
+            let v = q - position;
+            // |x| + |y| + |z| ≥ |w|: a wider pad without a square root.
+            let big = r * (1.0 + 2e-4)
+                + 2.0 * ETA * (libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z) + r);
+            let (ww, vv, wv) = (w.dot(w), v.dot(v), w.dot(v));
+            let a = vv - rho * rho;
+            let b = wv + big * rho;
+            let g0 = ww - big * big;
+            let g1 = a - 2.0 * b + g0;
+            let mut gmin = if g0 < g1 { g0 } else { g1 };
+            if a > 0.0 && b > 0.0 && b < a {
+                let gv = g0 - b * (b / a);
+                if gv < gmin {
+                    gmin = gv;
+                }
+            }
+            let tol = 1e-5 * (ww + vv + big * big + rho * rho);
+            !(gmin > tol)
+        }
+        Light::Directional { direction, .. } => {
+            // Shadow rays leave points of the ball along l = −direction: the sphere misses
+            // them iff it stays farther than R + ρ from the half-line q + t l, t ≥ 0.
+            let l = -direction;
+            let w = m - q;
+            let s = w.dot(l);
+            let e = if s > 0.0 { w - l * s } else { w };
+            let big = r * (1.0 + 2e-4)
+                + 2.0 * ETA * (libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z) + rho + r)
+                + rho;
+            let d2 = e.dot(e);
+            let tol = 1e-5 * (w.dot(w) + big * big);
+            !(d2 - big * big > tol)
+        }
+    }
+}
+
+/// The candidate lists of the span being traced: the row's spheres, the span's, and for each
+/// light the spheres that can block its shadow rays from the span's primary hits (all kept in
+/// one pool of `S` indices; a light that does not fit tests every sphere).
+#[derive(Debug)]
+struct Cull<const S: usize, const L: usize> {
+    row: List<S>,
+    span: List<S>,
+    pool: List<S>,
+    /// The sphere of each hit group (`NONE`: unused, `REST`: every other sphere).
+    groups: [u16; GROUPS],
+    /// Per group and light, its slice of `pool`; `None`: test every sphere.
+    ranges: [[Option<(u32, u32)>; L]; GROUPS],
+    span_start: u32,
+    span_end: u32,
+    /// Shadow lists are valid for this span.
+    culled: bool,
+    /// `hits` holds the span's primary hits (one sample per pixel), as `(t, sphere)`: 8 bytes
+    /// a pixel, for microcontroller stacks.
+    stored: bool,
+    hits: [Option<(f32, u16)>; SPAN],
+}
+
+impl<const S: usize, const L: usize> Cull<S, L> {
+    fn new() -> Self {
+        Cull {
+            row: heapless::Vec::new(),
+            span: heapless::Vec::new(),
+            pool: heapless::Vec::new(),
+            groups: [NONE; GROUPS],
+            ranges: [[None; L]; GROUPS],
+            span_start: 0,
+            span_end: 0,
+            culled: false,
+            stored: false,
+            hits: [None; SPAN],
+        }
+    }
+
+    /// The candidate blockers of light `i` for a primary hit on `sphere`, or `None` when it
+    /// must test every sphere.
+    #[inline]
+    fn light(&self, sphere: usize, i: usize) -> Option<&[u16]> {
+        let mut g = None;
+        for (k, &s) in self.groups.iter().enumerate() {
+            if s as usize == sphere && s < REST {
+                g = Some(k);
+                break;
+            }
+            if s == REST {
+                g = Some(k);
+            }
+        }
+        let (a, b) = self.ranges.get(g?)?.get(i).copied().flatten()?;
+        self.pool.get(a as usize..b as usize)
+    }
+}
+
+/// The pixels of one row, traced span by span (see [`Frame::row`]).
+#[derive(Debug)]
+pub struct Row<'f, 'a, const S: usize, const L: usize> {
+    frame: &'f Frame<'a, S, L>,
+    j: u32,
+    i: u32,
+    end: u32,
+    cull: Cull<S, L>,
+}
+
+impl<const S: usize, const L: usize> Iterator for Row<'_, '_, S, L> {
+    type Item = Rgb888;
+
+    #[inline]
+    fn next(&mut self) -> Option<Rgb888> {
+        if self.i >= self.end {
+            return None;
+        }
+        let px = self.frame.next_pixel(self.j, self.i, &mut self.cull);
+        self.i += 1;
+        Some(px)
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let n = (self.end - self.i) as usize;
+        (n, Some(n))
     }
 }

@@ -68,6 +68,30 @@ pub fn in_shadow<const S: usize, const L: usize>(
     light: &Light,
     from_light: Option<&[Prepared]>,
 ) -> bool {
+    in_shadow_among(
+        scene,
+        hit,
+        light,
+        |j| from_light.and_then(|k| k.get(j)).map(|k| k.c),
+        0..scene.spheres().len(),
+    )
+}
+
+/// [`in_shadow`] over a subset of the spheres: `candidates` (sphere indices) must contain every
+/// sphere that can block the shadow ray, as the renderer's per-span shadow lists do (the
+/// brute-force path passes them all). The tests are those of [`in_shadow`], so the answer is
+/// the same bit for bit; only fewer spheres are asked. `light_c(j)`, for a point light, is
+/// `c = |light − m|² − r²` of [`Prepared::exact`] for sphere `j`: the rest of those constants is
+/// rebuilt exactly as `Prepared::exact` computes it, so a frame stores 4 bytes per light and
+/// sphere instead of 20.
+#[inline]
+pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    hit: &Hit,
+    light: &Light,
+    light_c: impl Fn(usize) -> Option<f32>,
+    candidates: impl Iterator<Item = usize>,
+) -> bool {
     let spheres = scene.spheres();
     // Rays leave the hit at `base + hit.offset`: differences to other points are taken from the
     // centre `base` where that is more accurate than the rounded point (see `Prepared::leaving`),
@@ -78,6 +102,7 @@ pub fn in_shadow<const S: usize, const L: usize>(
     let p = hit.point;
     let blocks =
         |s, d, tmax| Prepared::leaving_hit(p, base, hit.offset, s, d, T_EPS, tmax).is_some();
+    let mut others = candidates.filter(|&j| j != hit.sphere);
     match *light {
         Light::Point { position, .. } => {
             let to_light = if hit.offset.max_abs() <= p.max_abs() {
@@ -88,31 +113,29 @@ pub fn in_shadow<const S: usize, const L: usize>(
             if exit_root(hit.offset, to_light).is_some_and(|t| t < 1.0) {
                 return true;
             }
-            match from_light {
-                Some(consts) => {
-                    let d = -to_light;
-                    consts.iter().zip(spheres).enumerate().any(|(j, (k, s))| {
-                        j != hit.sphere
-                            && if k.c <= NEAR_LIGHT * (k.r * k.r) {
-                                k.hit(d, T_EPS, T_BELOW_ONE).is_some()
-                            } else {
-                                blocks(s, to_light, T_BELOW_ONE)
-                            }
-                    })
+            let d = -to_light;
+            // `get`, not `[j]`: no bounds-check panic linked into the render path.
+            others.any(|j| {
+                let Some(s) = spheres.get(j) else {
+                    return false;
+                };
+                match light_c(j) {
+                    Some(c) if c <= NEAR_LIGHT * (s.radius * s.radius) => {
+                        let k = Prepared {
+                            f: position - s.center,
+                            c,
+                            r: s.radius,
+                        };
+                        k.hit(d, T_EPS, T_BELOW_ONE).is_some()
+                    }
+                    _ => blocks(s, to_light, T_BELOW_ONE),
                 }
-                None => spheres
-                    .iter()
-                    .enumerate()
-                    .any(|(j, s)| j != hit.sphere && blocks(s, to_light, T_BELOW_ONE)),
-            }
+            })
         }
         Light::Directional { direction, .. } => {
             let l = -direction;
             exit_root(hit.offset, l).is_some()
-                || spheres
-                    .iter()
-                    .enumerate()
-                    .any(|(j, s)| j != hit.sphere && blocks(s, l, f32::INFINITY))
+                || others.any(|j| spheres.get(j).is_some_and(|s| blocks(s, l, f32::INFINITY)))
         }
     }
 }
@@ -146,7 +169,12 @@ pub fn shade_local<const S: usize, const L: usize>(
     let n = hit.normal;
     let mut colour = m.diffuse.mul_elem(scene.ambient());
     let has_specular = m.specular != Color::ZERO;
-    let v = -dir.normalize_fast();
+    // Only a highlight needs the view vector (and only when there is a light).
+    let v = if has_specular && !scene.lights().is_empty() {
+        -dir.normalize_fast()
+    } else {
+        Vec3::ZERO
+    };
     for (i, light) in scene.lights().iter().enumerate() {
         let l = towards(light, hit.point);
         let nl = n.dot(l);

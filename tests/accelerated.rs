@@ -1,0 +1,228 @@
+//! The accelerated renderer (screen boxes, span lists, shadow culling) must compute exactly the
+//! brute-force pixels: on the conformance and demo scenes, and on random scenes built to stress
+//! the bounds (spheres behind, around and enclosing the eye, tiny and huge ones, grazing views,
+//! point lights inside spheres, supersampling).
+
+mod common;
+
+use embedded_graphics::pixelcolor::Rgb888;
+use microray::scene_file::{self, Desktop};
+use microray::{Camera, Color, Frame, Light, Material, RenderOptions, Scene, Sphere, Vec3};
+
+/// Renders with both paths and reports the first differing pixel.
+fn same<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    camera: &Camera,
+    options: RenderOptions,
+) {
+    let frame = Frame::new(scene, camera, options).unwrap();
+    let (w, h) = (camera.width() as usize, camera.height() as usize);
+    let mut fast = vec![Rgb888::new(0, 0, 0); w * h];
+    let mut brute = fast.clone();
+    frame.render(&mut fast).unwrap();
+    frame.render_rows_brute(0, &mut brute).unwrap();
+    if let Some(k) = (0..w * h).find(|&k| fast[k] != brute[k]) {
+        let (i, j) = ((k % w) as u32, (k / w) as u32);
+        panic!(
+            "pixel ({i}, {j}): accelerated {:?} != brute force {:?}; pixel_color {:?} vs {:?}",
+            fast[k],
+            brute[k],
+            frame.pixel_color(i, j),
+            frame.pixel_color_brute(i, j)
+        );
+    }
+    // The single-pixel path too, on a sample of pixels.
+    for k in (0..w * h).step_by(7) {
+        let (i, j) = ((k % w) as u32, (k / w) as u32);
+        assert_eq!(frame.pixel(i, j), brute[k], "pixel({i}, {j})");
+    }
+}
+
+/// xorshift64*: a small deterministic generator.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    /// Uniform in [lo, hi).
+    fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * ((self.next() >> 40) as f32 / (1u64 << 24) as f32)
+    }
+    fn vec(&mut self, s: f32) -> Vec3 {
+        Vec3::new(self.range(-s, s), self.range(-s, s), self.range(-s, s))
+    }
+    fn color(&mut self) -> Color {
+        Color::new(
+            self.range(0.0, 1.0),
+            self.range(0.0, 1.0),
+            self.range(0.0, 1.0),
+        )
+    }
+}
+
+fn random_scene(seed: u64) -> (Box<Scene<48, 4>>, Camera, RenderOptions) {
+    let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
+    let mut scene: Box<Scene<48, 4>> = Box::new(Scene::new());
+    scene
+        .set_ambient(Color::splat(rng.range(0.0, 0.2)))
+        .unwrap();
+    scene.set_background(rng.color()).unwrap();
+    scene.set_shadows(rng.next() % 4 != 0);
+    scene.set_max_depth((rng.next() % 3) as u8).unwrap();
+    let eye = rng.vec(6.0);
+    let look = rng.vec(2.0);
+    let n = 1 + rng.next() % 40;
+    for _ in 0..n {
+        let kind = rng.next() % 10;
+        let (c, r) = match kind {
+            // tiny and far
+            0 => (rng.vec(40.0), rng.range(0.001, 0.05)),
+            // huge ground-like sphere, often just below the eye
+            1 => {
+                let r = [1e3, 1e5, 1e6][(rng.next() % 3) as usize];
+                (
+                    Vec3::new(
+                        rng.range(-1.0, 1.0),
+                        eye.y - r - rng.range(0.01, 3.0),
+                        rng.range(-1.0, 1.0),
+                    ),
+                    r,
+                )
+            }
+            // around the eye (the eye inside, or just outside)
+            2 => (eye + rng.vec(1.0), rng.range(0.5, 3.0)),
+            // enclosing the whole scene
+            3 => (rng.vec(1.0), rng.range(20.0, 60.0)),
+            _ => (rng.vec(5.0), rng.range(0.1, 1.5)),
+        };
+        let specular = if rng.next() % 2 == 0 {
+            Color::ZERO
+        } else {
+            rng.color()
+        };
+        let mirror = if rng.next() % 4 == 0 {
+            rng.color() * 0.8
+        } else {
+            Color::ZERO
+        };
+        let m = Material {
+            diffuse: rng.color(),
+            specular,
+            shininess: rng.range(1.0, 200.0),
+            mirror,
+        };
+        scene.add_sphere(Sphere::new(c, r), m).unwrap();
+    }
+    for _ in 0..(rng.next() % 5) {
+        let light = if rng.next() % 3 == 0 {
+            Light::Directional {
+                direction: rng.vec(1.0) + Vec3::new(0.0, -0.3, 0.0),
+                intensity: rng.color(),
+            }
+        } else {
+            Light::Point {
+                position: rng.vec(8.0),
+                intensity: rng.color(),
+            }
+        };
+        let _ = scene.add_light(light);
+    }
+    let up = if rng.next() % 2 == 0 {
+        Vec3::new(0.0, 1.0, 0.0)
+    } else {
+        rng.vec(1.0)
+    };
+    let (w, h) = (8 + (rng.next() % 90) as u32, 8 + (rng.next() % 70) as u32);
+    let camera = match Camera::new(eye, look, up, rng.range(10.0, 150.0), w, h) {
+        Ok(c) => c,
+        Err(_) => Camera::new(eye, look, Vec3::new(0.3, 1.0, 0.1), 60.0, w, h).unwrap(),
+    };
+    let samples = if rng.next() % 5 == 0 {
+        2 + (rng.next() % 2) as u8
+    } else {
+        1
+    };
+    (
+        scene,
+        camera,
+        RenderOptions {
+            samples,
+            ..RenderOptions::default()
+        },
+    )
+}
+
+#[test]
+fn accelerated_equals_brute_force_on_random_scenes() {
+    let seeds: u64 = std::env::var("MICRORAY_SEEDS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(300);
+    for seed in 0..seeds {
+        let (scene, camera, options) = random_scene(seed);
+        let result = std::panic::catch_unwind(|| same(&*scene, &camera, options));
+        if let Err(e) = result {
+            panic!("seed {seed}: {:?}", e.downcast_ref::<String>());
+        }
+    }
+}
+
+#[test]
+fn accelerated_equals_brute_force_on_scene_files() {
+    for name in [
+        "flat",
+        "lit",
+        "mirror",
+        "room",
+        "supersampled_srgb",
+        "tilted",
+    ] {
+        let file: Box<Desktop> =
+            Box::new(scene_file::load(format!("tests/data/{name}.toml")).unwrap());
+        same(&file.scene, &file.camera, file.options);
+    }
+    let demo: Box<Desktop> =
+        Box::new(scene_file::parse(include_str!("../examples/scenes/demo.toml")).unwrap());
+    let camera = demo.view.camera(160, 120).unwrap();
+    same(&demo.scene, &camera, demo.options);
+}
+
+/// The comparison can fail: the frame of a slightly different scene is told apart.
+#[test]
+fn a_different_scene_is_detected() {
+    let camera = Camera::new(
+        Vec3::new(0.0, 0.0, 5.0),
+        Vec3::ZERO,
+        Vec3::new(0.0, 1.0, 0.0),
+        45.0,
+        32,
+        32,
+    )
+    .unwrap();
+    let mut scene: Scene<1, 0> = Scene::new();
+    scene.set_ambient(Color::splat(0.5)).unwrap();
+    scene
+        .add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())
+        .unwrap();
+    let mut other: Scene<1, 0> = Scene::new();
+    other.set_ambient(Color::splat(0.5)).unwrap();
+    other
+        .add_sphere(Sphere::new(Vec3::ZERO, 1.05), Material::default())
+        .unwrap();
+    let options = RenderOptions::default();
+    let (a, b) = (
+        Frame::new(&scene, &camera, options).unwrap(),
+        Frame::new(&other, &camera, options).unwrap(),
+    );
+    let (mut x, mut y) = (
+        vec![Rgb888::new(0, 0, 0); 32 * 32],
+        vec![Rgb888::new(0, 0, 0); 32 * 32],
+    );
+    a.render(&mut x).unwrap();
+    b.render_rows_brute(0, &mut y).unwrap();
+    assert!(x != y, "the two scenes rendered the same image");
+}
