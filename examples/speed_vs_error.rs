@@ -19,6 +19,7 @@ use std::hint::black_box;
 use std::ops::Add;
 use std::time::Instant;
 
+use common::rng::Rng;
 use microray::scene_file::{self, Desktop};
 use microray::{Frame, Prepared, Sphere, Vec3};
 
@@ -144,33 +145,6 @@ fn pow_schlick(x: f32, s: f32) -> f32 {
 }
 
 // ---- ray sets -----------------------------------------------------------------------------------
-
-struct Rng(u64);
-
-impl Rng {
-    fn u(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.u()
-    }
-    fn dir(&mut self) -> [f64; 3] {
-        loop {
-            let v = [
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            ];
-            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-            if n > 0.1 && n <= 1.0 {
-                return [v[0] / n, v[1] / n, v[2] / n];
-            }
-        }
-    }
-}
 
 /// `w` made perpendicular to the unit vector `u`, normalised.
 fn perpendicular(w: [f64; 3], u: [f64; 3]) -> [f64; 3] {

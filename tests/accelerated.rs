@@ -5,6 +5,30 @@
 
 mod common;
 
+/// Scene values drawn in f32.
+trait Draw {
+    fn vec(&mut self, s: f32) -> Vec3;
+    fn color(&mut self) -> Color;
+}
+
+impl Draw for Rng {
+    fn vec(&mut self, s: f32) -> Vec3 {
+        Vec3::new(
+            self.range_f32(-s, s),
+            self.range_f32(-s, s),
+            self.range_f32(-s, s),
+        )
+    }
+    fn color(&mut self) -> Color {
+        Color::new(
+            self.range_f32(0.0, 1.0),
+            self.range_f32(0.0, 1.0),
+            self.range_f32(0.0, 1.0),
+        )
+    }
+}
+
+use common::rng::Rng;
 use embedded_graphics::pixelcolor::Rgb888;
 use microray::scene_file::{self, Desktop};
 use microray::{Camera, Color, Frame, Light, Material, RenderOptions, Scene, Sphere, Vec3};
@@ -38,37 +62,11 @@ fn same<const S: usize, const L: usize>(
     }
 }
 
-/// xorshift64*: a small deterministic generator.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    /// Uniform in [lo, hi).
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * ((self.next() >> 40) as f32 / (1u64 << 24) as f32)
-    }
-    fn vec(&mut self, s: f32) -> Vec3 {
-        Vec3::new(self.range(-s, s), self.range(-s, s), self.range(-s, s))
-    }
-    fn color(&mut self) -> Color {
-        Color::new(
-            self.range(0.0, 1.0),
-            self.range(0.0, 1.0),
-            self.range(0.0, 1.0),
-        )
-    }
-}
-
 fn random_scene(seed: u64) -> (Box<Scene<48, 4>>, Camera, RenderOptions) {
     let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
     let mut scene: Box<Scene<48, 4>> = Box::new(Scene::new());
     scene
-        .set_ambient(Color::splat(rng.range(0.0, 0.2)))
+        .set_ambient(Color::splat(rng.range_f32(0.0, 0.2)))
         .unwrap();
     scene.set_background(rng.color()).unwrap();
     scene.set_shadows(rng.next() % 4 != 0);
@@ -80,24 +78,24 @@ fn random_scene(seed: u64) -> (Box<Scene<48, 4>>, Camera, RenderOptions) {
         let kind = rng.next() % 10;
         let (c, r) = match kind {
             // tiny and far
-            0 => (rng.vec(40.0), rng.range(0.001, 0.05)),
+            0 => (rng.vec(40.0), rng.range_f32(0.001, 0.05)),
             // huge ground-like sphere, often just below the eye
             1 => {
                 let r = [1e3, 1e5, 1e6][(rng.next() % 3) as usize];
                 (
                     Vec3::new(
-                        rng.range(-1.0, 1.0),
-                        eye.y - r - rng.range(0.01, 3.0),
-                        rng.range(-1.0, 1.0),
+                        rng.range_f32(-1.0, 1.0),
+                        eye.y - r - rng.range_f32(0.01, 3.0),
+                        rng.range_f32(-1.0, 1.0),
                     ),
                     r,
                 )
             }
             // around the eye (the eye inside, or just outside)
-            2 => (eye + rng.vec(1.0), rng.range(0.5, 3.0)),
+            2 => (eye + rng.vec(1.0), rng.range_f32(0.5, 3.0)),
             // enclosing the whole scene
-            3 => (rng.vec(1.0), rng.range(20.0, 60.0)),
-            _ => (rng.vec(5.0), rng.range(0.1, 1.5)),
+            3 => (rng.vec(1.0), rng.range_f32(20.0, 60.0)),
+            _ => (rng.vec(5.0), rng.range_f32(0.1, 1.5)),
         };
         let specular = if rng.next() % 2 == 0 {
             Color::ZERO
@@ -112,7 +110,7 @@ fn random_scene(seed: u64) -> (Box<Scene<48, 4>>, Camera, RenderOptions) {
         let m = Material {
             diffuse: rng.color(),
             specular,
-            shininess: rng.range(1.0, 200.0),
+            shininess: rng.range_f32(1.0, 200.0),
             mirror,
         };
         scene.add_sphere(Sphere::new(c, r), m).unwrap();
@@ -137,7 +135,7 @@ fn random_scene(seed: u64) -> (Box<Scene<48, 4>>, Camera, RenderOptions) {
         rng.vec(1.0)
     };
     let (w, h) = (8 + (rng.next() % 90) as u32, 8 + (rng.next() % 70) as u32);
-    let camera = match Camera::new(eye, look, up, rng.range(10.0, 150.0), w, h) {
+    let camera = match Camera::new(eye, look, up, rng.range_f32(10.0, 150.0), w, h) {
         Ok(c) => c,
         Err(_) => Camera::new(eye, look, Vec3::new(0.3, 1.0, 0.1), 60.0, w, h).unwrap(),
     };

@@ -11,25 +11,9 @@
 mod common;
 
 use common::reference::Reference;
+use common::rng::Rng;
 use common::{agreement, Image};
 use microray::scene_file::{parse, Desktop};
-
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        // xorshift64*
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    /// Uniform in [lo, hi), rounded to a multiple of 1/64.
-    fn grid(&mut self, lo: f64, hi: f64) -> f64 {
-        let u = (self.next() >> 11) as f64 / (1u64 << 53) as f64;
-        ((lo + (hi - lo) * u) * 64.0).round() / 64.0
-    }
-}
 
 /// A random scene as (spheres: centre, radius, material TOML), lights and camera, untransformed.
 struct Random {

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests: rendering scene files and comparing images.
 #![allow(dead_code)]
 
+pub mod rng;
+
 use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use microray::scene_file::{self, Desktop};
 use microray::Frame;
