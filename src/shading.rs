@@ -11,7 +11,7 @@
 //! from inside), so there is no self-shadowing "acne" and no epsilon to tune.
 
 use crate::geometry::{exit_root, Prepared, Ray, Sphere};
-use crate::math::{powf, Color, Vec3};
+use crate::math::{spec_pow, Color, Vec3};
 use crate::scene::{make_hit, Hit, Light, Scene};
 
 /// Just above zero: "t > 0" for closed-interval queries.
@@ -185,7 +185,7 @@ pub fn shade_local<const S: usize, const L: usize>(
         if has_specular {
             let nh = n.dot((v + l).normalize_fast());
             if nh > 0.0 {
-                c += m.specular * powf(nh, m.shininess);
+                c += m.specular * spec_pow(nh, m.shininess);
             }
         }
         colour += light.intensity().mul_elem(c);
