@@ -9,7 +9,7 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -103,36 +103,43 @@ fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize) -> Vec<Rgb888> {
     let band_rows = 4;
     let bands = Mutex::new(pixels.chunks_mut(w * band_rows).enumerate());
     let done = AtomicU32::new(0);
-    let finished = AtomicU32::new(0);
+    let finished = AtomicBool::new(false);
     let show = std::io::stderr().is_terminal();
     std::thread::scope(|s| {
-        for _ in 0..threads.min(h.div_ceil(band_rows)) {
-            s.spawn(|| loop {
-                let next = bands.lock().unwrap_or_else(|e| e.into_inner()).next();
-                let Some((b, band)) = next else { break };
-                // Every band holds whole rows inside the image, so this cannot fail.
-                if let Ok(rows) = frame.render_rows((b * band_rows) as u32, band) {
-                    done.fetch_add(rows, Ordering::Relaxed);
-                }
-            });
+        let workers: Vec<_> = (0..threads.min(h.div_ceil(band_rows)))
+            .map(|_| {
+                s.spawn(|| loop {
+                    let next = bands.lock().unwrap_or_else(|e| e.into_inner()).next();
+                    let Some((b, band)) = next else { break };
+                    // Every band holds whole rows inside the image, so this cannot fail.
+                    if let Ok(rows) = frame.render_rows((b * band_rows) as u32, band) {
+                        done.fetch_add(rows, Ordering::Relaxed);
+                    }
+                })
+            })
+            .collect();
+        let bar = show.then(|| s.spawn(|| progress(&done, &finished, h as u32)));
+        for worker in workers {
+            let _ = worker.join();
         }
-        if show {
-            s.spawn(|| progress(&done, &finished, h as u32));
+        // Wake the progress thread at once rather than after its sleep, which would otherwise
+        // be counted in the render time.
+        finished.store(true, Ordering::Relaxed);
+        if let Some(bar) = bar {
+            bar.thread().unpark();
         }
-        // Joining the workers happens at scope end; tell the progress thread when they are done.
-        while done.load(Ordering::Relaxed) < h as u32 {
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        finished.store(1, Ordering::Relaxed);
     });
     pixels
 }
 
-fn progress(done: &AtomicU32, finished: &AtomicU32, total: u32) {
+fn progress(done: &AtomicU32, finished: &AtomicBool, total: u32) {
     let start = Instant::now();
     let mut shown = false;
-    while finished.load(Ordering::Relaxed) == 0 {
-        std::thread::sleep(Duration::from_millis(100));
+    loop {
+        std::thread::park_timeout(Duration::from_millis(100));
+        if finished.load(Ordering::Relaxed) {
+            break;
+        }
         if start.elapsed() < Duration::from_secs(1) {
             continue;
         }
