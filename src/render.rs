@@ -476,19 +476,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn row(&self, j: u32) -> Row<'_, 'a, S, L> {
-        let mut cull = Cull::new();
-        let end = if j < self.height() {
-            self.start_row(j, &mut cull);
-            self.width()
-        } else {
-            0
-        };
+        // The row's lists are made by its first pixel: the `Row` is built in place, never
+        // moved with them filled in (it is large, microcontroller stacks are small).
         Row {
             frame: self,
             j,
             i: 0,
-            end,
-            cull,
+            end: if j < self.height() { self.width() } else { 0 },
+            cull: Cull::new(),
         }
     }
 
@@ -503,9 +498,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         cull.span_end = 0;
     }
 
-    /// The pixel `(i, j)` of a row started with [`Frame::start_row`], pixels taken in order.
+    /// The pixel `(i, j)` of row `j`, pixels taken in order from `i = 0` (which starts the
+    /// row with [`Frame::start_row`]).
     #[inline]
     fn next_pixel(&self, j: u32, i: u32, cull: &mut Cull<S, L>) -> Rgb888 {
+        if i == 0 {
+            self.start_row(j, cull);
+        }
         if i >= cull.span_end {
             cull.span_start = i;
             cull.span_end = (i + SPAN as u32).min(self.width());
@@ -516,7 +515,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let k = (i - cull.span_start) as usize;
             let ray = self.camera.view_ray(i, j, 0, 0, 1);
             // The hit record again from (t, sphere): `make_hit` is a pure function of them.
-            let first = cull.hits.get(k).copied().flatten().and_then(|(t, s)| {
+            let first = cull.hit(k).and_then(|(t, s)| {
                 let p = self.eye.get(s as usize)?;
                 let sphere = self.scene.spheres().get(s as usize)?;
                 Some(make_hit(&ray, t, s as usize, p.f, sphere))
@@ -561,7 +560,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let mut cull = Cull::new();
         for (r, row) in buf.chunks_exact_mut(w).enumerate() {
             let j = first_row + r as u32;
-            self.start_row(j, &mut cull);
             for (i, px) in row.iter_mut().enumerate() {
                 *px = self.next_pixel(j, i as u32, &mut cull).into();
             }
@@ -683,8 +681,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 if let Some(h) = &h {
                     extend(h);
                 }
-                if let Some(slot) = cull.hits.get_mut(k) {
-                    *slot = h.map(|h| (h.t, h.sphere as u16));
+                if let (Some(t), Some(s)) = (cull.hit_t.get_mut(k), cull.hit_s.get_mut(k)) {
+                    (*t, *s) = h.map_or((0.0, NONE), |h| (h.t, h.sphere as u16));
                 }
             }
             cull.stored = true;
@@ -717,14 +715,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let rho = half.length() * (1.0 + 1e-5) + 1e-5 * q.max_abs() + f32::MIN_POSITIVE;
             let bounded = rho.is_finite() && q.is_finite();
             for (li, range) in ranges.iter_mut().enumerate() {
-                *range = None;
+                *range = ALL;
                 let Some(light) = self.scene.lights().get(li) else {
                     continue;
                 };
                 if !bounded {
                     continue;
                 }
-                let start = cull.pool.len() as u32;
+                let start = cull.pool.len() as u16;
                 let spheres = self.scene.spheres();
                 let mut full = false;
                 let mut consider = |s: u16| {
@@ -763,7 +761,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     // Out of room: this light tests every sphere for this group.
                     cull.pool.truncate(start as usize);
                 } else {
-                    *range = Some((start, cull.pool.len() as u32));
+                    *range = (start, cull.pool.len() as u16);
                 }
             }
         }
@@ -777,6 +775,8 @@ const GROUPS: usize = 4;
 const NONE: u16 = u16::MAX;
 /// The group of every other sphere.
 const REST: u16 = u16::MAX - 1;
+/// A light's pool range when it must test every sphere (empty as `a..b`: `a > b`).
+const ALL: (u16, u16) = (u16::MAX, 0);
 
 /// The bound of one group's hit points.
 #[derive(Debug, Clone, Copy)]
@@ -1004,16 +1004,17 @@ struct Cull<const S: usize, const L: usize> {
     pool: List<S>,
     /// The sphere of each hit group (`NONE`: unused, `REST`: every other sphere).
     groups: [u16; GROUPS],
-    /// Per group and light, its slice of `pool`; `None`: test every sphere.
-    ranges: [[Option<(u32, u32)>; L]; GROUPS],
+    /// Per group and light, its slice `a..b` of `pool`; [`ALL`] (`a > b`): test every sphere.
+    ranges: [[(u16, u16); L]; GROUPS],
     span_start: u32,
     span_end: u32,
     /// Shadow lists are valid for this span.
     culled: bool,
-    /// `hits` holds the span's primary hits (one sample per pixel), as `(t, sphere)`: 8 bytes
-    /// a pixel, for microcontroller stacks.
+    /// `hit_t`, `hit_s` hold the span's primary hits (one sample per pixel) as `t` and sphere
+    /// (`NONE`: no hit): 6 bytes a pixel, for microcontroller stacks.
     stored: bool,
-    hits: [Option<(f32, u16)>; SPAN],
+    hit_t: [f32; SPAN],
+    hit_s: [u16; SPAN],
 }
 
 impl<const S: usize, const L: usize> Cull<S, L> {
@@ -1023,12 +1024,23 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             span: heapless::Vec::new(),
             pool: heapless::Vec::new(),
             groups: [NONE; GROUPS],
-            ranges: [[None; L]; GROUPS],
+            ranges: [[ALL; L]; GROUPS],
             span_start: 0,
             span_end: 0,
             culled: false,
             stored: false,
-            hits: [None; SPAN],
+            // Zeros, which the compiler writes in place; a span writes them before use.
+            hit_t: [0.0; SPAN],
+            hit_s: [0; SPAN],
+        }
+    }
+
+    /// The stored primary hit of the span's pixel `k`, as `(t, sphere)`.
+    #[inline]
+    fn hit(&self, k: usize) -> Option<(f32, u16)> {
+        match (self.hit_t.get(k), self.hit_s.get(k)) {
+            (Some(&t), Some(&s)) if s != NONE => Some((t, s)),
+            _ => None,
         }
     }
 
@@ -1046,7 +1058,8 @@ impl<const S: usize, const L: usize> Cull<S, L> {
                 g = Some(k);
             }
         }
-        let (a, b) = self.ranges.get(g?)?.get(i).copied().flatten()?;
+        let (a, b) = self.ranges.get(g?)?.get(i).copied()?;
+        // `ALL` has a > b: no slice.
         self.pool.get(a as usize..b as usize)
     }
 }
@@ -1064,7 +1077,9 @@ pub struct Row<'f, 'a, const S: usize, const L: usize> {
 impl<const S: usize, const L: usize> Iterator for Row<'_, '_, S, L> {
     type Item = Rgb888;
 
-    #[inline]
+    // Out of line: the row's whole pixel pipeline, which displays reach through adapters
+    // (`by_ref`, `map`); one copy of it, whatever wraps the row.
+    #[inline(never)]
     fn next(&mut self) -> Option<Rgb888> {
         if self.i >= self.end {
             return None;
