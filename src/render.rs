@@ -291,8 +291,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// The closest hit of the primary ray through column `i`, against the spheres of `cands`
-    /// (in scene order) whose box holds that column (the row is the caller's).
-    #[inline]
+    /// (in scene order) whose box holds that column (the row is the caller's). Out of line:
+    /// one copy for its three callers, which small flash prefers.
+    #[inline(never)]
     fn primary_hit_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<Hit> {
         let mut best: Option<(f32, usize, &Prepared)> = None;
         let mut tmax = f32::INFINITY;
@@ -342,18 +343,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     && scene.lights().get(i).is_some_and(|light| {
                         let cs = self.light_consts(i, light);
                         let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
-                        match lists.and_then(|l| l.light(hit.sphere, i)) {
-                            Some(cands) => in_shadow_among(
-                                scene,
-                                hit,
-                                light,
-                                consts,
-                                cands.iter().map(|&j| j as usize),
-                            ),
-                            None => {
-                                in_shadow_among(scene, hit, light, consts, 0..scene.spheres().len())
-                            }
-                        }
+                        // One iterator type for both cases: one copy of the shadow tests.
+                        let cands = lists.and_then(|l| l.light(hit.sphere, i));
+                        let n = cands.map_or(scene.spheres().len(), |c| c.len());
+                        let pick = move |k: usize| match cands {
+                            // `k < c.len()`; an index past the scene would test nothing.
+                            Some(c) => c.get(k).map_or(usize::MAX, |&j| j as usize),
+                            None => k,
+                        };
+                        in_shadow_among(scene, hit, light, consts, (0..n).map(pick))
                     })
             })
         })
@@ -475,6 +473,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// assert_eq!(frame.row(4).count(), 0);
     /// # Ok::<(), microray::Error>(())
     /// ```
+    // Out of line: whatever temporary the compiler builds the `Row` in stays in this frame,
+    // which is gone before the row is traced (a caller's frame would keep it).
+    #[inline(never)]
     pub fn row(&self, j: u32) -> Row<'_, 'a, S, L> {
         // The row's lists are made by its first pixel: the `Row` is built in place, never
         // moved with them filled in (it is large, microcontroller stacks are small).
