@@ -291,9 +291,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// The closest hit of the primary ray through column `i`, against the spheres of `cands`
-    /// (in scene order) whose box holds that column (the row is the caller's). Out of line:
-    /// one copy for its three callers, which small flash prefers.
-    #[inline(never)]
+    /// (in scene order) whose box holds that column (the row is the caller's). Inlined in the
+    /// hot loop of [`Frame::gather`]; the other callers share [`Frame::primary_hit_among_shared`].
+    #[inline]
     fn primary_hit_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<Hit> {
         let mut best: Option<(f32, usize, &Prepared)> = None;
         let mut tmax = f32::INFINITY;
@@ -313,6 +313,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let (t, s, k) = best?;
         let sphere = self.scene.spheres().get(s)?;
         Some(make_hit(ray, t, s, k.f, sphere))
+    }
+
+    /// [`Frame::primary_hit_among`] out of line: one copy for the callers off the hot path
+    /// (several samples per pixel, no shadow rays, single pixels), which small flash prefers.
+    #[inline(never)]
+    fn primary_hit_among_shared(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<Hit> {
+        self.primary_hit_among(ray, i, cands)
     }
 
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).
@@ -394,7 +401,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
         }
         self.average(i, j, |ray| {
-            self.shade_from(ray, self.primary_hit_among(ray, i, &cands), None)
+            self.shade_from(ray, self.primary_hit_among_shared(ray, i, &cands), None)
         })
     }
 
@@ -414,17 +421,19 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         self.average(i, j, |ray| self.trace(ray))
     }
 
-    /// The average over the pixel's `samples²` rays of `f(ray)`.
+    /// The average over the pixel's `samples²` rays of `f(ray)` (with one sample, `f(ray)`
+    /// itself). `f` is called from one place, so it is inlined once.
     #[inline]
     fn average(&self, i: u32, j: u32, mut f: impl FnMut(&Ray) -> Color) -> Color {
         let n = self.samples;
-        if n == 1 {
-            return f(&self.camera.view_ray(i, j, 0, 0, 1));
-        }
         let mut sum = Color::ZERO;
         for sy in 0..n {
             for sx in 0..n {
-                sum += f(&self.camera.view_ray(i, j, sx, sy, n));
+                let c = f(&self.camera.view_ray(i, j, sx, sy, n));
+                if n == 1 {
+                    return c;
+                }
+                sum += c;
             }
         }
         sum / (n * n) as f32
@@ -524,7 +533,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             self.shade_from(&ray, first, shadow)
         } else {
             self.average(i, j, |ray| {
-                self.shade_from(ray, self.primary_hit_among(ray, i, &cull.span), shadow)
+                self.shade_from(
+                    ray,
+                    self.primary_hit_among_shared(ray, i, &cull.span),
+                    shadow,
+                )
             })
         };
         self.encode(c)
@@ -690,7 +703,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         } else {
             for i in i0..i1 {
                 let _ = self.average(i, j, |ray| {
-                    if let Some(h) = self.primary_hit_among(ray, i, &cull.span) {
+                    if let Some(h) = self.primary_hit_among_shared(ray, i, &cull.span) {
                         extend(&h);
                     }
                     Color::ZERO
