@@ -33,7 +33,7 @@ use embedded_graphics::pixelcolor::Rgb888;
 
 use crate::camera::Camera;
 use crate::error::Error;
-use crate::geometry::{Prepared, Ray};
+use crate::geometry::{hit_point, Prepared, Ray};
 use crate::math::{powf, Color, Vec3};
 use crate::raster::{PixelBox, Screen, ETA};
 use crate::scene::{make_hit, Hit, Light, Scene};
@@ -290,12 +290,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         Some(make_hit(ray, t, i, k.f, sphere))
     }
 
-    /// The closest hit of the primary ray through column `i`, against the spheres of `cands`
-    /// (in scene order) whose box holds that column (the row is the caller's). Inlined in the
-    /// hot loop of [`Frame::gather`]; the other callers share [`Frame::primary_hit_among_shared`].
+    /// The closest hit of the primary ray through column `i`, as `(t, sphere)`, against the
+    /// spheres of `cands` (in scene order) whose box holds that column (the row is the
+    /// caller's). Inlined in the hot loop of [`Frame::gather`], which needs only the hit
+    /// point; the other callers share [`Frame::primary_hit_among`].
     #[inline]
-    fn primary_hit_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<Hit> {
-        let mut best: Option<(f32, usize, &Prepared)> = None;
+    fn primary_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<(f32, usize)> {
+        let mut best: Option<(f32, usize)> = None;
         let mut tmax = f32::INFINITY;
         for &s in cands {
             let s = s as usize;
@@ -307,19 +308,26 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
             if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
                 tmax = t;
-                best = Some((t, s, k));
+                best = Some((t, s));
             }
         }
-        let (t, s, k) = best?;
-        let sphere = self.scene.spheres().get(s)?;
-        Some(make_hit(ray, t, s, k.f, sphere))
+        best
     }
 
-    /// [`Frame::primary_hit_among`] out of line: one copy for the callers off the hot path
-    /// (several samples per pixel, no shadow rays, single pixels), which small flash prefers.
+    /// [`Frame::primary_among`] as a hit record. Out of line: one copy for the callers off
+    /// the hot path (several samples per pixel, no shadow rays, single pixels).
     #[inline(never)]
-    fn primary_hit_among_shared(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<Hit> {
-        self.primary_hit_among(ray, i, cands)
+    fn primary_hit_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<Hit> {
+        let (t, s) = self.primary_among(ray, i, cands)?;
+        self.eye_hit(ray, t, s)
+    }
+
+    /// The hit record of a primary ray at `t` on sphere `s`: a pure function of them.
+    #[inline]
+    fn eye_hit(&self, ray: &Ray, t: f32, s: usize) -> Option<Hit> {
+        let k = self.eye.get(s)?;
+        let sphere = self.scene.spheres().get(s)?;
+        Some(make_hit(ray, t, s, k.f, sphere))
     }
 
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).
@@ -401,7 +409,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
         }
         self.average(i, j, |ray| {
-            self.shade_from(ray, self.primary_hit_among_shared(ray, i, &cands), None)
+            self.shade_from(ray, self.primary_hit_among(ray, i, &cands), None)
         })
     }
 
@@ -524,20 +532,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let c = if cull.stored {
             let k = (i - cull.span_start) as usize;
             let ray = self.camera.view_ray(i, j, 0, 0, 1);
-            // The hit record again from (t, sphere): `make_hit` is a pure function of them.
-            let first = cull.hit(k).and_then(|(t, s)| {
-                let p = self.eye.get(s as usize)?;
-                let sphere = self.scene.spheres().get(s as usize)?;
-                Some(make_hit(&ray, t, s as usize, p.f, sphere))
-            });
+            // The hit record from (t, sphere): `make_hit` is a pure function of them.
+            let first = cull
+                .hit(k)
+                .and_then(|(t, s)| self.eye_hit(&ray, t, s as usize));
             self.shade_from(&ray, first, shadow)
         } else {
             self.average(i, j, |ray| {
-                self.shade_from(
-                    ray,
-                    self.primary_hit_among_shared(ray, i, &cull.span),
-                    shadow,
-                )
+                self.shade_from(ray, self.primary_hit_among(ray, i, &cull.span), shadow)
             })
         };
         self.encode(c)
@@ -665,9 +667,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // The span's primary hits (kept for shading when one sample per pixel), grouped by
         // the sphere hit (a sphere and the wall behind it make poor company in one bound),
         // and the box of each group's points.
+        let spheres = self.scene.spheres();
         let mut groups = [Group::EMPTY; GROUPS];
-        let mut extend = |h: &Hit| {
-            let g = group_of(&groups, h.sphere).unwrap_or_else(|| {
+        let mut extend = |sphere: usize, p: Vec3| {
+            let g = group_of(&groups, sphere).unwrap_or_else(|| {
                 // A new group while there is room; the last one takes every other sphere.
                 let free = groups.iter().position(|g| g.sphere == NONE);
                 match free {
@@ -677,13 +680,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             });
             if let Some(gr) = groups.get_mut(g) {
                 if gr.sphere == NONE {
-                    gr.sphere = if g + 1 < GROUPS {
-                        h.sphere as u16
-                    } else {
-                        REST
-                    };
+                    gr.sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
                 }
-                let p = h.point;
                 gr.lo = Vec3::new(gr.lo.x.min(p.x), gr.lo.y.min(p.y), gr.lo.z.min(p.z));
                 gr.hi = Vec3::new(gr.hi.x.max(p.x), gr.hi.y.max(p.y), gr.hi.z.max(p.z));
             }
@@ -691,20 +689,23 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if self.samples == 1 {
             for (k, i) in (i0..i1).enumerate() {
                 let ray = self.camera.view_ray(i, j, 0, 0, 1);
-                let h = self.primary_hit_among(&ray, i, &cull.span);
-                if let Some(h) = &h {
-                    extend(h);
+                let h = self.primary_among(&ray, i, &cull.span);
+                if let Some((t, s)) = h {
+                    // The point of `make_hit`, without the rest of the hit record.
+                    if let (Some(k), Some(sphere)) = (self.eye.get(s), spheres.get(s)) {
+                        extend(s, hit_point(&ray, t, k.f, sphere).0);
+                    }
                 }
                 if let (Some(t), Some(s)) = (cull.hit_t.get_mut(k), cull.hit_s.get_mut(k)) {
-                    (*t, *s) = h.map_or((0.0, NONE), |h| (h.t, h.sphere as u16));
+                    (*t, *s) = h.map_or((0.0, NONE), |(t, s)| (t, s as u16));
                 }
             }
             cull.stored = true;
         } else {
             for i in i0..i1 {
                 let _ = self.average(i, j, |ray| {
-                    if let Some(h) = self.primary_hit_among_shared(ray, i, &cull.span) {
-                        extend(&h);
+                    if let Some(h) = self.primary_hit_among(ray, i, &cull.span) {
+                        extend(h.sphere, h.point);
                     }
                     Color::ZERO
                 });
