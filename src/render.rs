@@ -682,8 +682,21 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 if gr.sphere == NONE {
                     gr.sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
                 }
-                gr.lo = Vec3::new(gr.lo.x.min(p.x), gr.lo.y.min(p.y), gr.lo.z.min(p.z));
-                gr.hi = Vec3::new(gr.hi.x.max(p.x), gr.hi.y.max(p.y), gr.hi.z.max(p.z));
+                // Comparisons, not `f32::min`/`max` (calls to `fminf`/`fmaxf` without an FPU
+                // instruction for them); a NaN coordinate is skipped as `min`/`max` skip it.
+                let (lo, hi) = (&mut gr.lo, &mut gr.hi);
+                for (l, h, v) in [
+                    (&mut lo.x, &mut hi.x, p.x),
+                    (&mut lo.y, &mut hi.y, p.y),
+                    (&mut lo.z, &mut hi.z, p.z),
+                ] {
+                    if v < *l {
+                        *l = v;
+                    }
+                    if v > *h {
+                        *h = v;
+                    }
+                }
             }
         };
         if self.samples == 1 {
