@@ -649,6 +649,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Gathers the span `[span_start, span_end)` of row `j`: its spheres from the row's, then
     /// (with shadow rays) its primary hits, the ball bounding their points, and each light's
     /// possible blockers.
+    // Out of line, once per span: its locals (the hit groups) are then off the stack while
+    // the span's pixels are shaded.
+    #[inline(never)]
     fn gather(&self, j: u32, cull: &mut Cull<S, L>) {
         let (i0, i1) = (cull.span_start, cull.span_end);
         cull.span.clear();
