@@ -101,16 +101,20 @@ pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
     };
     let e = match encoding {
         Encoding::Linear => c,
-        Encoding::Srgb => {
-            if c <= 0.003_130_8 {
-                12.92 * c
-            } else {
-                1.055 * powf(c, 1.0 / 2.4) - 0.055
-            }
-        }
+        Encoding::Srgb => srgb(c),
     };
     // 0 ≤ 255e + 0.5 < 256, so truncation is floor and the cast cannot wrap.
     (255.0 * e + 0.5) as u8
+}
+
+/// The sRGB transfer curve on [0, 1]. Out of line: one copy for the three channels.
+#[inline(never)]
+fn srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * powf(c, 1.0 / 2.4) - 0.055
+    }
 }
 
 /// Pixels per span: the unit for which the renderer gathers candidate spheres.
@@ -649,8 +653,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Gathers the span `[span_start, span_end)` of row `j`: its spheres from the row's, then
     /// (with shadow rays) its primary hits, the ball bounding their points, and each light's
     /// possible blockers.
-    // Out of line, once per span: its locals (the hit groups) are then off the stack while
-    // the span's pixels are shaded.
     #[inline(never)]
     fn gather(&self, j: u32, cull: &mut Cull<S, L>) {
         let (i0, i1) = (cull.span_start, cull.span_end);
