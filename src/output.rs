@@ -70,7 +70,10 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
         let w = self.width();
         for j in 0..self.height() {
             let row = Rectangle::new(Point::new(0, j as i32), Size::new(w, 1));
-            target.fill_contiguous(&row, self.row(j).map(Into::into))?;
+            // The display takes the iterator by value: give it a reference to the row, which
+            // is large, rather than moving the row itself through its adapters.
+            let mut pixels = self.row(j);
+            target.fill_contiguous(&row, pixels.by_ref().map(Into::into))?;
         }
         Ok(())
     }
@@ -103,7 +106,8 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
         for (r, row) in buf.chunks_exact_mut(w).enumerate() {
             let j = first_row + r as u32;
             // Traced row by row with the renderer's culling (the same pixels as `pixel`).
-            for (i, (px, c)) in row.iter_mut().zip(self.row(j)).enumerate() {
+            let mut pixels = self.row(j);
+            for (i, (px, c)) in row.iter_mut().zip(pixels.by_ref()).enumerate() {
                 *px = dither_rgb565(c, i as u32, j);
             }
         }
@@ -134,8 +138,9 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
         let w = self.width();
         for j in 0..self.height() {
             let row = Rectangle::new(Point::new(0, j as i32), Size::new(w, 1));
+            let mut pixels = self.row(j);
             let colours =
-                (self.row(j).enumerate()).map(|(i, c)| dither_rgb565(c, i as u32, j).into());
+                (pixels.by_ref().enumerate()).map(|(i, c)| dither_rgb565(c, i as u32, j).into());
             target.fill_contiguous(&row, colours)?;
         }
         Ok(())

@@ -33,7 +33,7 @@ use embedded_graphics::pixelcolor::Rgb888;
 
 use crate::camera::Camera;
 use crate::error::Error;
-use crate::geometry::{Prepared, Ray};
+use crate::geometry::{hit_point, Prepared, Ray};
 use crate::math::{powf, Color, Vec3};
 use crate::raster::{PixelBox, Screen, ETA};
 use crate::scene::{make_hit, Hit, Light, Scene};
@@ -101,16 +101,20 @@ pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
     };
     let e = match encoding {
         Encoding::Linear => c,
-        Encoding::Srgb => {
-            if c <= 0.003_130_8 {
-                12.92 * c
-            } else {
-                1.055 * powf(c, 1.0 / 2.4) - 0.055
-            }
-        }
+        Encoding::Srgb => srgb(c),
     };
     // 0 ≤ 255e + 0.5 < 256, so truncation is floor and the cast cannot wrap.
     (255.0 * e + 0.5) as u8
+}
+
+/// The sRGB transfer curve on [0, 1]. Out of line: one copy for the three channels.
+#[inline(never)]
+fn srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * powf(c, 1.0 / 2.4) - 0.055
+    }
 }
 
 /// Pixels per span: the unit for which the renderer gathers candidate spheres.
@@ -290,11 +294,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         Some(make_hit(ray, t, i, k.f, sphere))
     }
 
-    /// The closest hit of the primary ray through column `i`, against the spheres of `cands`
-    /// (in scene order) whose box holds that column (the row is the caller's).
+    /// The closest hit of the primary ray through column `i`, as `(t, sphere)`, against the
+    /// spheres of `cands` (in scene order) whose box holds that column (the row is the
+    /// caller's). Inlined in the hot loop of [`Frame::gather`], which needs only the hit
+    /// point; the other callers share [`Frame::primary_hit_among`].
     #[inline]
-    fn primary_hit_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<Hit> {
-        let mut best: Option<(f32, usize, &Prepared)> = None;
+    fn primary_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<(f32, usize)> {
+        let mut best: Option<(f32, usize)> = None;
         let mut tmax = f32::INFINITY;
         for &s in cands {
             let s = s as usize;
@@ -306,10 +312,24 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
             if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
                 tmax = t;
-                best = Some((t, s, k));
+                best = Some((t, s));
             }
         }
-        let (t, s, k) = best?;
+        best
+    }
+
+    /// [`Frame::primary_among`] as a hit record. Out of line: one copy for the callers off
+    /// the hot path (several samples per pixel, no shadow rays, single pixels).
+    #[inline(never)]
+    fn primary_hit_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<Hit> {
+        let (t, s) = self.primary_among(ray, i, cands)?;
+        self.eye_hit(ray, t, s)
+    }
+
+    /// The hit record of a primary ray at `t` on sphere `s`: a pure function of them.
+    #[inline]
+    fn eye_hit(&self, ray: &Ray, t: f32, s: usize) -> Option<Hit> {
+        let k = self.eye.get(s)?;
         let sphere = self.scene.spheres().get(s)?;
         Some(make_hit(ray, t, s, k.f, sphere))
     }
@@ -342,18 +362,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     && scene.lights().get(i).is_some_and(|light| {
                         let cs = self.light_consts(i, light);
                         let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
-                        match lists.and_then(|l| l.light(hit.sphere, i)) {
-                            Some(cands) => in_shadow_among(
-                                scene,
-                                hit,
-                                light,
-                                consts,
-                                cands.iter().map(|&j| j as usize),
-                            ),
-                            None => {
-                                in_shadow_among(scene, hit, light, consts, 0..scene.spheres().len())
-                            }
-                        }
+                        // One iterator type for both cases: one copy of the shadow tests.
+                        let cands = lists.and_then(|l| l.light(hit.sphere, i));
+                        let n = cands.map_or(scene.spheres().len(), |c| c.len());
+                        let pick = move |k: usize| match cands {
+                            // `k < c.len()`; an index past the scene would test nothing.
+                            Some(c) => c.get(k).map_or(usize::MAX, |&j| j as usize),
+                            None => k,
+                        };
+                        in_shadow_among(scene, hit, light, consts, (0..n).map(pick))
                     })
             })
         })
@@ -416,17 +433,19 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         self.average(i, j, |ray| self.trace(ray))
     }
 
-    /// The average over the pixel's `samples²` rays of `f(ray)`.
+    /// The average over the pixel's `samples²` rays of `f(ray)` (with one sample, `f(ray)`
+    /// itself). `f` is called from one place, so it is inlined once.
     #[inline]
     fn average(&self, i: u32, j: u32, mut f: impl FnMut(&Ray) -> Color) -> Color {
         let n = self.samples;
-        if n == 1 {
-            return f(&self.camera.view_ray(i, j, 0, 0, 1));
-        }
         let mut sum = Color::ZERO;
         for sy in 0..n {
             for sx in 0..n {
-                sum += f(&self.camera.view_ray(i, j, sx, sy, n));
+                let c = f(&self.camera.view_ray(i, j, sx, sy, n));
+                if n == 1 {
+                    return c;
+                }
+                sum += c;
             }
         }
         sum / (n * n) as f32
@@ -475,20 +494,18 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// assert_eq!(frame.row(4).count(), 0);
     /// # Ok::<(), microray::Error>(())
     /// ```
+    // Out of line: whatever temporary the compiler builds the `Row` in stays in this frame,
+    // which is gone before the row is traced (a caller's frame would keep it).
+    #[inline(never)]
     pub fn row(&self, j: u32) -> Row<'_, 'a, S, L> {
-        let mut cull = Cull::new();
-        let end = if j < self.height() {
-            self.start_row(j, &mut cull);
-            self.width()
-        } else {
-            0
-        };
+        // The row's lists are made by its first pixel: the `Row` is built in place, never
+        // moved with them filled in (it is large, microcontroller stacks are small).
         Row {
             frame: self,
             j,
             i: 0,
-            end,
-            cull,
+            end: if j < self.height() { self.width() } else { 0 },
+            cull: Cull::new(),
         }
     }
 
@@ -503,9 +520,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         cull.span_end = 0;
     }
 
-    /// The pixel `(i, j)` of a row started with [`Frame::start_row`], pixels taken in order.
+    /// The pixel `(i, j)` of row `j`, pixels taken in order from `i = 0` (which starts the
+    /// row with [`Frame::start_row`]).
     #[inline]
     fn next_pixel(&self, j: u32, i: u32, cull: &mut Cull<S, L>) -> Rgb888 {
+        if i == 0 {
+            self.start_row(j, cull);
+        }
         if i >= cull.span_end {
             cull.span_start = i;
             cull.span_end = (i + SPAN as u32).min(self.width());
@@ -515,12 +536,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let c = if cull.stored {
             let k = (i - cull.span_start) as usize;
             let ray = self.camera.view_ray(i, j, 0, 0, 1);
-            // The hit record again from (t, sphere): `make_hit` is a pure function of them.
-            let first = cull.hits.get(k).copied().flatten().and_then(|(t, s)| {
-                let p = self.eye.get(s as usize)?;
-                let sphere = self.scene.spheres().get(s as usize)?;
-                Some(make_hit(&ray, t, s as usize, p.f, sphere))
-            });
+            // The hit record from (t, sphere): `make_hit` is a pure function of them.
+            let first = cull
+                .hit(k)
+                .and_then(|(t, s)| self.eye_hit(&ray, t, s as usize));
             self.shade_from(&ray, first, shadow)
         } else {
             self.average(i, j, |ray| {
@@ -561,7 +580,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let mut cull = Cull::new();
         for (r, row) in buf.chunks_exact_mut(w).enumerate() {
             let j = first_row + r as u32;
-            self.start_row(j, &mut cull);
             for (i, px) in row.iter_mut().enumerate() {
                 *px = self.next_pixel(j, i as u32, &mut cull).into();
             }
@@ -635,6 +653,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Gathers the span `[span_start, span_end)` of row `j`: its spheres from the row's, then
     /// (with shadow rays) its primary hits, the ball bounding their points, and each light's
     /// possible blockers.
+    #[inline(never)]
     fn gather(&self, j: u32, cull: &mut Cull<S, L>) {
         let (i0, i1) = (cull.span_start, cull.span_end);
         cull.span.clear();
@@ -653,9 +672,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // The span's primary hits (kept for shading when one sample per pixel), grouped by
         // the sphere hit (a sphere and the wall behind it make poor company in one bound),
         // and the box of each group's points.
+        let spheres = self.scene.spheres();
         let mut groups = [Group::EMPTY; GROUPS];
-        let mut extend = |h: &Hit| {
-            let g = group_of(&groups, h.sphere).unwrap_or_else(|| {
+        let mut extend = |sphere: usize, p: Vec3| {
+            let g = group_of(&groups, sphere).unwrap_or_else(|| {
                 // A new group while there is room; the last one takes every other sphere.
                 let free = groups.iter().position(|g| g.sphere == NONE);
                 match free {
@@ -665,26 +685,37 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             });
             if let Some(gr) = groups.get_mut(g) {
                 if gr.sphere == NONE {
-                    gr.sphere = if g + 1 < GROUPS {
-                        h.sphere as u16
-                    } else {
-                        REST
-                    };
+                    gr.sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
                 }
-                let p = h.point;
-                gr.lo = Vec3::new(gr.lo.x.min(p.x), gr.lo.y.min(p.y), gr.lo.z.min(p.z));
-                gr.hi = Vec3::new(gr.hi.x.max(p.x), gr.hi.y.max(p.y), gr.hi.z.max(p.z));
+                // Comparisons, not `f32::min`/`max` (calls to `fminf`/`fmaxf` without an FPU
+                // instruction for them); a NaN coordinate is skipped as `min`/`max` skip it.
+                let (lo, hi) = (&mut gr.lo, &mut gr.hi);
+                for (l, h, v) in [
+                    (&mut lo.x, &mut hi.x, p.x),
+                    (&mut lo.y, &mut hi.y, p.y),
+                    (&mut lo.z, &mut hi.z, p.z),
+                ] {
+                    if v < *l {
+                        *l = v;
+                    }
+                    if v > *h {
+                        *h = v;
+                    }
+                }
             }
         };
         if self.samples == 1 {
             for (k, i) in (i0..i1).enumerate() {
                 let ray = self.camera.view_ray(i, j, 0, 0, 1);
-                let h = self.primary_hit_among(&ray, i, &cull.span);
-                if let Some(h) = &h {
-                    extend(h);
+                let h = self.primary_among(&ray, i, &cull.span);
+                if let Some((t, s)) = h {
+                    // The point of `make_hit`, without the rest of the hit record.
+                    if let (Some(k), Some(sphere)) = (self.eye.get(s), spheres.get(s)) {
+                        extend(s, hit_point(&ray, t, k.f, sphere).0);
+                    }
                 }
-                if let Some(slot) = cull.hits.get_mut(k) {
-                    *slot = h.map(|h| (h.t, h.sphere as u16));
+                if let (Some(t), Some(s)) = (cull.hit_t.get_mut(k), cull.hit_s.get_mut(k)) {
+                    (*t, *s) = h.map_or((0.0, NONE), |(t, s)| (t, s as u16));
                 }
             }
             cull.stored = true;
@@ -692,7 +723,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             for i in i0..i1 {
                 let _ = self.average(i, j, |ray| {
                     if let Some(h) = self.primary_hit_among(ray, i, &cull.span) {
-                        extend(&h);
+                        extend(h.sphere, h.point);
                     }
                     Color::ZERO
                 });
@@ -717,14 +748,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let rho = half.length() * (1.0 + 1e-5) + 1e-5 * q.max_abs() + f32::MIN_POSITIVE;
             let bounded = rho.is_finite() && q.is_finite();
             for (li, range) in ranges.iter_mut().enumerate() {
-                *range = None;
+                *range = ALL;
                 let Some(light) = self.scene.lights().get(li) else {
                     continue;
                 };
                 if !bounded {
                     continue;
                 }
-                let start = cull.pool.len() as u32;
+                let start = cull.pool.len() as u16;
                 let spheres = self.scene.spheres();
                 let mut full = false;
                 let mut consider = |s: u16| {
@@ -763,7 +794,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     // Out of room: this light tests every sphere for this group.
                     cull.pool.truncate(start as usize);
                 } else {
-                    *range = Some((start, cull.pool.len() as u32));
+                    *range = (start, cull.pool.len() as u16);
                 }
             }
         }
@@ -777,6 +808,8 @@ const GROUPS: usize = 4;
 const NONE: u16 = u16::MAX;
 /// The group of every other sphere.
 const REST: u16 = u16::MAX - 1;
+/// A light's pool range when it must test every sphere (empty as `a..b`: `a > b`).
+const ALL: (u16, u16) = (u16::MAX, 0);
 
 /// The bound of one group's hit points.
 #[derive(Debug, Clone, Copy)]
@@ -1004,16 +1037,17 @@ struct Cull<const S: usize, const L: usize> {
     pool: List<S>,
     /// The sphere of each hit group (`NONE`: unused, `REST`: every other sphere).
     groups: [u16; GROUPS],
-    /// Per group and light, its slice of `pool`; `None`: test every sphere.
-    ranges: [[Option<(u32, u32)>; L]; GROUPS],
+    /// Per group and light, its slice `a..b` of `pool`; [`ALL`] (`a > b`): test every sphere.
+    ranges: [[(u16, u16); L]; GROUPS],
     span_start: u32,
     span_end: u32,
     /// Shadow lists are valid for this span.
     culled: bool,
-    /// `hits` holds the span's primary hits (one sample per pixel), as `(t, sphere)`: 8 bytes
-    /// a pixel, for microcontroller stacks.
+    /// `hit_t`, `hit_s` hold the span's primary hits (one sample per pixel) as `t` and sphere
+    /// (`NONE`: no hit): 6 bytes a pixel, for microcontroller stacks.
     stored: bool,
-    hits: [Option<(f32, u16)>; SPAN],
+    hit_t: [f32; SPAN],
+    hit_s: [u16; SPAN],
 }
 
 impl<const S: usize, const L: usize> Cull<S, L> {
@@ -1023,12 +1057,23 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             span: heapless::Vec::new(),
             pool: heapless::Vec::new(),
             groups: [NONE; GROUPS],
-            ranges: [[None; L]; GROUPS],
+            ranges: [[ALL; L]; GROUPS],
             span_start: 0,
             span_end: 0,
             culled: false,
             stored: false,
-            hits: [None; SPAN],
+            // Zeros, which the compiler writes in place; a span writes them before use.
+            hit_t: [0.0; SPAN],
+            hit_s: [0; SPAN],
+        }
+    }
+
+    /// The stored primary hit of the span's pixel `k`, as `(t, sphere)`.
+    #[inline]
+    fn hit(&self, k: usize) -> Option<(f32, u16)> {
+        match (self.hit_t.get(k), self.hit_s.get(k)) {
+            (Some(&t), Some(&s)) if s != NONE => Some((t, s)),
+            _ => None,
         }
     }
 
@@ -1046,7 +1091,8 @@ impl<const S: usize, const L: usize> Cull<S, L> {
                 g = Some(k);
             }
         }
-        let (a, b) = self.ranges.get(g?)?.get(i).copied().flatten()?;
+        let (a, b) = self.ranges.get(g?)?.get(i).copied()?;
+        // `ALL` has a > b: no slice.
         self.pool.get(a as usize..b as usize)
     }
 }
@@ -1064,7 +1110,9 @@ pub struct Row<'f, 'a, const S: usize, const L: usize> {
 impl<const S: usize, const L: usize> Iterator for Row<'_, '_, S, L> {
     type Item = Rgb888;
 
-    #[inline]
+    // Out of line: the row's whole pixel pipeline, which displays reach through adapters
+    // (`by_ref`, `map`); one copy of it, whatever wraps the row.
+    #[inline(never)]
     fn next(&mut self) -> Option<Rgb888> {
         if self.i >= self.end {
             return None;

@@ -389,8 +389,9 @@ impl<const S: usize, const L: usize> Scene<S, L> {
     }
 }
 
-/// The hit record for parameter `t` on sphere `i`, given `f = origin − centre`.
-#[inline]
+/// The hit record for parameter `t` on sphere `i`, given `f = origin − centre`. Out of line:
+/// one copy for the renderer's and the shading's callers, which small flash prefers.
+#[inline(never)]
 pub(crate) fn make_hit(ray: &Ray, t: f32, i: usize, f: Vec3, sphere: &Sphere) -> Hit {
     // The offset from the centre is computed directly (see `hit_point`): unlike
     // `point − centre` it does not lose the low bits of a point far from the origin.
