@@ -19,6 +19,7 @@ use std::hint::black_box;
 use std::ops::Add;
 use std::time::Instant;
 
+use common::reference::reference_t;
 use common::rng::Rng;
 use microray::scene_file::{self, Desktop};
 use microray::{Frame, Prepared, Sphere, Vec3};
@@ -167,32 +168,6 @@ struct Case {
     /// Counted for ulp statistics (a hit that does not graze).
     clean: bool,
     ground: bool,
-}
-
-/// The reference root in f64 (Hearn–Baker discriminant, stable roots) of the f32 inputs.
-fn reference_t(o: Vec3, d: Vec3, s: &Sphere) -> Option<f64> {
-    let v = |p: Vec3| [p.x as f64, p.y as f64, p.z as f64];
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let (o, d, m, r) = (v(o), v(d), v(s.center), s.radius as f64);
-    let f = [o[0] - m[0], o[1] - m[1], o[2] - m[2]];
-    let (a, b) = (dot(d, d), dot(f, d));
-    let c = dot(f, f) - r * r;
-    let k = b / a;
-    let l = [f[0] - k * d[0], f[1] - k * d[1], f[2] - k * d[2]];
-    let disc = a * (r * r - dot(l, l));
-    if disc < 0.0 {
-        return None;
-    }
-    let q = -(b + b.signum() * disc.sqrt());
-    let (t0, t1) = (c / q, q / a);
-    let (t0, t1) = (t0.min(t1), t0.max(t1));
-    if t0 > 0.0 {
-        Some(t0)
-    } else if t1 > 0.0 {
-        Some(t1)
-    } else {
-        None
-    }
 }
 
 /// Far and small spheres (distance/radius 10¹ … 10⁵; 80% aimed inside 0.9 r, 20% missing by

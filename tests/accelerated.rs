@@ -171,14 +171,7 @@ fn accelerated_equals_brute_force_on_random_scenes() {
 
 #[test]
 fn accelerated_equals_brute_force_on_scene_files() {
-    for name in [
-        "flat",
-        "lit",
-        "mirror",
-        "room",
-        "supersampled_srgb",
-        "tilted",
-    ] {
+    for name in common::CONFORMANCE {
         let file: Box<Desktop> =
             Box::new(scene_file::load(format!("tests/data/{name}.toml")).unwrap());
         same(&file.scene, &file.camera, file.options);

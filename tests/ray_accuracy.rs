@@ -8,6 +8,7 @@
 
 mod common;
 
+use common::reference::reference_t;
 use common::rng::Rng;
 use microray::geometry::exit_root;
 use microray::shading::{find_from, in_shadow, reflect};
@@ -18,31 +19,6 @@ fn v32(v: [f64; 3]) -> Vec3 {
 }
 fn v64(v: Vec3) -> [f64; 3] {
     [v.x as f64, v.y as f64, v.z as f64]
-}
-
-/// The near root (t > 0 first) in f64 of the f32 ray and sphere, or None.
-fn reference_t(o: Vec3, d: Vec3, s: &Sphere) -> Option<f64> {
-    use common::reference::{dot, mul, sub};
-    let (o, d, m, r) = (v64(o), v64(d), v64(s.center), s.radius as f64);
-    let f = sub(o, m);
-    let a = dot(d, d);
-    let b = dot(f, d);
-    let c = dot(f, f) - r * r;
-    let l = sub(f, mul(d, b / a));
-    let disc = a * (r * r - dot(l, l));
-    if disc < 0.0 {
-        return None;
-    }
-    let q = -(b + b.signum() * disc.sqrt());
-    let (t0, t1) = (c / q, q / a);
-    let (t0, t1) = (t0.min(t1), t0.max(t1));
-    if t0 > 0.0 {
-        Some(t0)
-    } else if t1 > 0.0 {
-        Some(t1)
-    } else {
-        None
-    }
 }
 
 /// |t − t_ref| in f32 ulp of t_ref.

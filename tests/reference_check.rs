@@ -7,14 +7,7 @@ use common::reference::Reference;
 
 #[test]
 fn reference_reproduces_the_conformance_images() {
-    for name in [
-        "flat",
-        "lit",
-        "mirror",
-        "room",
-        "supersampled_srgb",
-        "tilted",
-    ] {
+    for name in common::CONFORMANCE {
         let file: Box<microray::scene_file::Desktop> =
             Box::new(microray::scene_file::load(format!("tests/data/{name}.toml")).unwrap());
         let r = Reference::new(&file);

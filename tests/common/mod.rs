@@ -3,6 +3,16 @@
 
 pub mod rng;
 
+/// The conformance scenes in tests/data (NAME.toml with its expected NAME.png).
+pub const CONFORMANCE: [&str; 6] = [
+    "flat",
+    "lit",
+    "mirror",
+    "room",
+    "supersampled_srgb",
+    "tilted",
+];
+
 use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use microray::scene_file::{self, Desktop};
 use microray::Frame;

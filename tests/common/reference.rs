@@ -95,6 +95,34 @@ pub fn roots(o: V, d: V, center: V, r: f64) -> Option<(f64, f64)> {
     Some((t0.min(t1), t0.max(t1)))
 }
 
+/// The near root (t > 0 first) in f64 of an f32 ray and sphere, or None: the ground truth of
+/// the ray-level accuracy tests and of the speed-against-error report (Hearn–Baker
+/// discriminant, stable roots).
+pub fn reference_t(o: microray::Vec3, d: microray::Vec3, s: &microray::Sphere) -> Option<f64> {
+    let v = |p: microray::Vec3| [p.x as f64, p.y as f64, p.z as f64];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let (o, d, m, r) = (v(o), v(d), v(s.center), s.radius as f64);
+    let f = [o[0] - m[0], o[1] - m[1], o[2] - m[2]];
+    let (a, b) = (dot(d, d), dot(f, d));
+    let c = dot(f, f) - r * r;
+    let k = b / a;
+    let l = [f[0] - k * d[0], f[1] - k * d[1], f[2] - k * d[2]];
+    let disc = a * (r * r - dot(l, l));
+    if disc < 0.0 {
+        return None;
+    }
+    let q = -(b + b.signum() * disc.sqrt());
+    let (t0, t1) = (c / q, q / a);
+    let (t0, t1) = (t0.min(t1), t0.max(t1));
+    if t0 > 0.0 {
+        Some(t0)
+    } else if t1 > 0.0 {
+        Some(t1)
+    } else {
+        None
+    }
+}
+
 impl Reference {
     pub fn new<const S: usize, const L: usize>(file: &SceneFile<S, L>) -> Self {
         let sc = &file.scene;
