@@ -179,16 +179,7 @@ fn hard_rays(n: usize) -> Vec<Case> {
         if out.len() % 4 == 3 {
             let radius = 10f64.powf(g.range(3.0, 6.0)) as f32;
             let s = Sphere::new(Vec3::new(0.0, -radius, 0.0), radius);
-            let o = [
-                g.range(-10.0, 10.0),
-                1.0 + g.range(0.0, 0.01),
-                g.range(-10.0, 10.0),
-            ];
-            let dist = 30f64.powf(g.u());
-            let phi = g.range(0.0, std::f64::consts::TAU);
-            let d = [dist * phi.cos(), -o[1], dist * phi.sin()];
-            let nd = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-            let (o, d) = (v32(o), v32([d[0] / nd, d[1] / nd, d[2] / nd]));
+            let (o, d) = g.ground_ray();
             let t_ref = reference_t(o, d, &s);
             let clean = t_ref.is_some_and(|t| {
                 let r = radius as f64;

@@ -124,17 +124,7 @@ fn ground_set(radius: f64, n: usize, seed: u64) -> (Stats, Stats, f64, f64) {
     let radius = radius as f32 as f64;
     let s = Sphere::new(Vec3::new(0.0, -radius as f32, 0.0), radius as f32);
     for _ in 0..n {
-        let o = [
-            g.range(-10.0, 10.0),
-            1.0 + g.range(0.0, 0.01),
-            g.range(-10.0, 10.0),
-        ];
-        // towards a ground point at horizontal distance up to 30 (grazing at 1/30)
-        let dist = 30f64.powf(g.u());
-        let phi = g.range(0.0, std::f64::consts::TAU);
-        let d = [dist * phi.cos(), -o[1], dist * phi.sin()];
-        let nd = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        let (o, d) = (v32(o), v32([d[0] / nd, d[1] / nd, d[2] / nd]));
+        let (o, d) = g.ground_ray();
         let Some(t_ref) = reference_t(o, d, &s) else {
             continue;
         };

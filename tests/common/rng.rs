@@ -1,5 +1,7 @@
 //! xorshift64*: a small deterministic generator, so every random test is reproducible by seed.
 
+use microray::Vec3;
+
 /// The generator; the state must not be 0.
 pub struct Rng(pub u64);
 
@@ -45,5 +47,22 @@ impl Rng {
                 return [v[0] / n, v[1] / n, v[2] / n];
             }
         }
+    }
+
+    /// A unit ray from 0–0.01 above height 1 (over a ground sphere whose top is at 0) towards a
+    /// ground point up to 30 away horizontally (grazing at 1/30): the ground ray set of the
+    /// accuracy tests and of the speed-against-error report, which must measure the same rays.
+    pub fn ground_ray(&mut self) -> (Vec3, Vec3) {
+        let o = [
+            self.range(-10.0, 10.0),
+            1.0 + self.range(0.0, 0.01),
+            self.range(-10.0, 10.0),
+        ];
+        let dist = 30f64.powf(self.u());
+        let phi = self.range(0.0, std::f64::consts::TAU);
+        let d = [dist * phi.cos(), -o[1], dist * phi.sin()];
+        let nd = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let v32 = |v: [f64; 3]| Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
+        (v32(o), v32([d[0] / nd, d[1] / nd, d[2] / nd]))
     }
 }
