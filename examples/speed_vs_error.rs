@@ -674,7 +674,7 @@ fn main() {
         }
         acc
     };
-    // microray's shading: Prepared::leaving_hit (the hit's centre and offset, the sphere
+    // microray's shading: Prepared::leaving_hit (from the hit's centre and offset, the sphere
     // skipped when certainly behind)
     let sum_shading = || {
         let mut acc = 0.0;
@@ -685,7 +685,7 @@ fn main() {
                 if j != from {
                     let (lo, hi) = (f32::MIN_POSITIVE, f32::INFINITY);
                     if let Some((t, _)) =
-                        Prepared::leaving_hit(black_box(o), base, offset, s, d, lo, hi)
+                        Prepared::leaving_hit(black_box(base), offset, s, d, lo, hi)
                     {
                         acc += t;
                     }

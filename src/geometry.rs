@@ -23,8 +23,11 @@
 //!    of r when `|f| ≫ r`, even with t exact. [`hit_point`] recomputes it in f64 from 16 radii
 //!    away.
 //! 5. **Rays leaving a hit far from the origin**: the hit point rounded to f32 is off by half an
-//!    ulp of its coordinates (5·10⁻⁴ at 10⁴). [`Prepared::leaving`] takes `f` for another
-//!    sphere as `(centre − m) + offset` instead, when that is the smaller error.
+//!    ulp of its coordinates (5·10⁻⁴ at 10⁴). Shadow and mirror rays therefore take `f` for
+//!    another sphere as `(anchor − m) + rel`: the hit's centre and offset, or the eye and the
+//!    path travelled from it, whichever vector is shorter ([`Hit::anchor`](crate::Hit::anchor)).
+//!    `anchor − m` is exact or nearly, so the error scales with the scene's size, not with its
+//!    distance from the origin: a scene moved by an exact vector renders the same bits.
 //!
 //! Everything else stays in f32; f64 is only the fallback, and it is IEEE-exact on every
 //! target (soft-float included), so a microcontroller still computes the host's bits.
@@ -248,59 +251,34 @@ impl Prepared {
         Prepared::finish(f, sphere.radius, || c_f64_surface(base, offset, sphere))
     }
 
-    /// The constants for a ray leaving a hit point `point = base + offset` on the surface of the
-    /// sphere centred at `base`: [`Prepared::from_surface`] when the offset (the radius) is
-    /// smaller than the point's coordinates, which is then the more accurate, else
-    /// [`Prepared::new`] from the point (a huge ground sphere near the origin).
-    ///
-    /// ```
-    /// # use microray::{Prepared, Sphere, Vec3};
-    /// let other = Sphere::new(Vec3::new(0.0, 3.0, 0.0), 1.0);
-    /// let (base, offset) = (Vec3::new(0.0, -1e6, 0.0), Vec3::new(0.0, 1e6, 0.0));
-    /// let k = Prepared::leaving(Vec3::ZERO, base, offset, &other);
-    /// assert_eq!(k, Prepared::new(Vec3::ZERO, &other));
-    /// ```
-    #[inline]
-    pub fn leaving(point: Vec3, base: Vec3, offset: Vec3, sphere: &Sphere) -> Self {
-        if offset.max_abs() <= point.max_abs() {
-            Prepared::from_surface(base, offset, sphere)
-        } else {
-            Prepared::new(point, sphere)
-        }
-    }
-
-    /// What `Prepared::leaving(point, base, offset, sphere).hit(d, tmin, tmax)` returns, with the
-    /// `f` it used, for the shadow and mirror rays of a hit; cheaper, because a sphere certainly
-    /// behind the ray (origin outside by more than the f32 error of `c`, `f·d ≥ 0`, `tmin ≥ 0`)
-    /// is rejected before `c` is finished. That spares the f64 `c` (software floating point on
-    /// a Cortex-M4F) for, say, the ground under a ball when the shadow ray goes up.
+    /// What `Prepared::from_surface(anchor, rel, sphere).hit(d, tmin, tmax)` returns, with the
+    /// `f` it used: for the shadow and mirror rays of a hit, which leave from
+    /// `anchor + rel` (see [`Hit::anchor`](crate::Hit::anchor)). Cheaper, because a sphere
+    /// certainly behind the ray (origin outside by more than the f32 error of `c`, `f·d ≥ 0`,
+    /// `tmin ≥ 0`) is rejected before `c` is finished. That spares the f64 `c` (software
+    /// floating point on a Cortex-M4F) for, say, the ground under a ball when the shadow ray
+    /// goes up.
     ///
     /// ```
     /// # use microray::{Prepared, Sphere, Vec3};
     /// let ground = Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0);
     /// // the foot of a ball floating 1 above the ground
     /// let (base, offset) = (Vec3::new(0.0, 1.5, 0.0), Vec3::new(0.0, -0.5, 0.0));
-    /// let (foot, up) = (Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
-    /// assert_eq!(Prepared::leaving_hit(foot, base, offset, &ground, up, 0.0, f32::INFINITY), None);
-    /// let (t, f) = Prepared::leaving_hit(foot, base, offset, &ground, -up, 0.0, 10.0).unwrap();
+    /// let up = Vec3::new(0.0, 1.0, 0.0);
+    /// assert_eq!(Prepared::leaving_hit(base, offset, &ground, up, 0.0, f32::INFINITY), None);
+    /// let (t, f) = Prepared::leaving_hit(base, offset, &ground, -up, 0.0, 10.0).unwrap();
     /// assert_eq!((t, f), (1.0, Vec3::new(0.0, 1001.0, 0.0)));
     /// ```
     #[inline]
     pub fn leaving_hit(
-        point: Vec3,
-        base: Vec3,
-        offset: Vec3,
+        anchor: Vec3,
+        rel: Vec3,
         sphere: &Sphere,
         d: Vec3,
         tmin: f32,
         tmax: f32,
     ) -> Option<(f32, Vec3)> {
-        let from_base = offset.max_abs() <= point.max_abs();
-        let f = if from_base {
-            (base - sphere.center) + offset
-        } else {
-            point - sphere.center
-        };
+        let f = (anchor - sphere.center) + rel;
         let r = sphere.radius;
         let (ff, rr) = (f.dot(f), r * r);
         let c = ff - rr;
@@ -311,10 +289,8 @@ impl Prepared {
         }
         let c = if libm::fabsf(c) > (ff + rr) * CANCEL && c.is_finite() {
             c
-        } else if from_base {
-            c_f64_surface(base, offset, sphere) as f32
         } else {
-            c_f64(point, sphere.center, r) as f32
+            c_f64_surface(anchor, rel, sphere) as f32
         };
         let k = Prepared { f, c, r };
         k.hit_ab(d, d.dot(d), b, tmin, tmax).map(|t| (t, f))

@@ -291,7 +291,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         let (t, i, k) = best?;
         let sphere = self.scene.spheres().get(i)?;
-        Some(make_hit(ray, t, i, k.f, sphere))
+        Some(make_hit(ray, t, i, k.f, sphere, ray.origin, Vec3::ZERO))
     }
 
     /// The closest hit of the primary ray through column `i`, as `(t, sphere)`, against the
@@ -331,7 +331,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     fn eye_hit(&self, ray: &Ray, t: f32, s: usize) -> Option<Hit> {
         let k = self.eye.get(s)?;
         let sphere = self.scene.spheres().get(s)?;
-        Some(make_hit(ray, t, s, k.f, sphere))
+        Some(make_hit(ray, t, s, k.f, sphere, ray.origin, Vec3::ZERO))
     }
 
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).

@@ -22,12 +22,13 @@ const T_BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
 /// (within 32 radii of the light), see [`in_shadow`].
 const NEAR_LIGHT: f32 = 1023.0;
 
-/// Where the light comes from at `hit`: the unit vector `l` towards it.
+/// Where the light comes from at the hit point `anchor + rel` (see [`Hit::anchor`]): the unit
+/// vector `l` towards it.
 #[inline]
-fn towards(light: &Light, p: Vec3) -> Vec3 {
+fn towards(light: &Light, anchor: Vec3, rel: Vec3) -> Vec3 {
     match *light {
         Light::Point { position, .. } => {
-            let v = position - p;
+            let v = (position - anchor) - rel;
             let ll = v.dot(v);
             // |v|² overflows beyond ~10¹⁹ and underflows below ~10⁻¹⁹: then the guarded form
             // (and no light at all from a light exactly at p).
@@ -93,23 +94,17 @@ pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
     candidates: impl Iterator<Item = usize>,
 ) -> bool {
     let spheres = scene.spheres();
-    // Rays leave the hit at `base + hit.offset`: differences to other points are taken from the
-    // centre `base` where that is more accurate than the rounded point (see `Prepared::leaving`),
-    // which keeps them exact however far from the origin the scene is.
+    // Rays leave the hit at `anchor + rel`, not at the rounded point: differences to other
+    // points stay accurate however far from the origin the scene is.
     let Some(base) = spheres.get(hit.sphere).map(|s| s.center) else {
         return false;
     };
-    let p = hit.point;
-    let blocks =
-        |s, d, tmax| Prepared::leaving_hit(p, base, hit.offset, s, d, T_EPS, tmax).is_some();
+    let (anchor, rel) = hit.anchor(base);
+    let blocks = |s, d, tmax| Prepared::leaving_hit(anchor, rel, s, d, T_EPS, tmax).is_some();
     let mut others = candidates.filter(|&j| j != hit.sphere);
     match *light {
         Light::Point { position, .. } => {
-            let to_light = if hit.offset.max_abs() <= p.max_abs() {
-                (position - base) - hit.offset
-            } else {
-                position - p
-            };
+            let to_light = (position - anchor) - rel;
             if exit_root(hit.offset, to_light).is_some_and(|t| t < 1.0) {
                 return true;
             }
@@ -163,9 +158,13 @@ pub fn shade_local<const S: usize, const L: usize>(
 ) -> Color {
     // A hit always names a sphere of this scene; `get` keeps a bounds-check panic out of the
     // render path (an invalid hit shades black).
-    let Some(m) = scene.materials().get(hit.sphere) else {
+    let (Some(m), Some(s)) = (
+        scene.materials().get(hit.sphere),
+        scene.spheres().get(hit.sphere),
+    ) else {
         return Color::ZERO;
     };
+    let (anchor, rel) = hit.anchor(s.center);
     let n = hit.normal;
     let mut colour = m.diffuse.mul_elem(scene.ambient());
     let has_specular = m.specular != Color::ZERO;
@@ -176,7 +175,7 @@ pub fn shade_local<const S: usize, const L: usize>(
         Vec3::ZERO
     };
     for (i, light) in scene.lights().iter().enumerate() {
-        let l = towards(light, hit.point);
+        let l = towards(light, anchor, rel);
         let nl = n.dot(l);
         if !(nl > 0.0) || blocked(i) {
             continue;
@@ -229,8 +228,9 @@ pub fn reflect(ray: &Ray, hit: &Hit) -> Ray {
     Ray::new(hit.point, d - hit.normal * (2.0 * d.dot(hit.normal)))
 }
 
-/// The closest hit of a ray that starts on sphere `from` (a mirror ray): `from` itself is not
-/// intersected but left through [`exit_root`], so the ray cannot hit its own origin.
+/// The closest hit of a ray that leaves the hit `from` (a mirror ray): the sphere it starts on is
+/// not intersected but left through [`exit_root`], so the ray cannot hit its own origin, and
+/// the others are met from the hit's [`Hit::anchor`].
 ///
 /// ```
 /// use microray::{shading::{find_from, reflect}, Material, Ray, Scene, Sphere, Vec3};
@@ -239,16 +239,16 @@ pub fn reflect(ray: &Ray, hit: &Hit) -> Ray {
 /// scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, 4.0), 1.0), Material::default())?;
 /// let ray = Ray::new(Vec3::new(0.0, 0.0, 2.5), Vec3::new(0.0, 0.0, -1.0));
 /// let hit = scene.find_intersection(&ray, 0.0, 10.0).unwrap();
-/// let back = find_from(&scene, &reflect(&ray, &hit), hit.sphere, hit.offset).unwrap();
+/// let back = find_from(&scene, &reflect(&ray, &hit), &hit).unwrap();
 /// assert_eq!(back.sphere, 1);
 /// # Ok::<(), microray::Error>(())
 /// ```
 pub fn find_from<const S: usize, const L: usize>(
     scene: &Scene<S, L>,
     ray: &Ray,
-    from: usize,
-    offset: Vec3,
+    hit: &Hit,
 ) -> Option<Hit> {
+    let (from, offset) = (hit.sphere, hit.offset);
     let spheres = scene.spheres();
     // The sphere travels with the index: re-indexing `spheres` would link a bounds-check panic.
     let mut best: Option<(f32, usize, Vec3, &Sphere)> = None;
@@ -265,7 +265,8 @@ pub fn find_from<const S: usize, const L: usize>(
         }
         let found = match spheres.get(from) {
             Some(base) => {
-                Prepared::leaving_hit(ray.origin, base.center, offset, s, ray.dir, T_EPS, tmax)
+                let (anchor, rel) = hit.anchor(base.center);
+                Prepared::leaving_hit(anchor, rel, s, ray.dir, T_EPS, tmax)
             }
             None => {
                 let k = Prepared::new(ray.origin, s);
@@ -277,7 +278,7 @@ pub fn find_from<const S: usize, const L: usize>(
             best = Some((t, j, f, s));
         }
     }
-    best.map(|(t, j, f, s)| make_hit(ray, t, j, f, s))
+    best.map(|(t, j, f, s)| make_hit(ray, t, j, f, s, hit.origin, hit.path))
 }
 
 /// The colour seen along a ray: the hit's local colour plus its mirror reflections, or the
@@ -325,7 +326,7 @@ pub(crate) fn follow<const S: usize, const L: usize>(
         }
         weight = weight.mul_elem(km);
         ray = reflect(&ray, &h);
-        hit = find_from(scene, &ray, h.sphere, h.offset);
+        hit = find_from(scene, &ray, &h);
         depth += 1;
     }
 }

@@ -265,7 +265,7 @@ fn no_self_intersection_in_a_million_rays() {
         };
         // Mirror ray: from outside it leaves; from inside it meets the far wall, not its start.
         let refl = reflect(&ray, &hit);
-        match find_from(&scene, &refl, hit.sphere, hit.offset) {
+        match find_from(&scene, &refl, &hit) {
             None if !inside => {}
             Some(h2) if inside => {
                 inner += 1;
@@ -360,23 +360,29 @@ fn contact_shadows_are_kept() {
                 };
                 for rho in [1e-4, 1e-2, 0.3, 0.9, 0.98, 1.02, 1.5] {
                     // the ground point at rho ball radii from the contact, as the tracer would
-                    // record it: offset from the ground's centre and the rounded point
+                    // record it: offset from the ground's centre, the rounded point, and the
+                    // path from an eye 5 ball radii up and aside
                     let x = rho * small / 2f64.sqrt();
                     let gc = v64(ground.center);
                     let off = [x, (big * big - 2.0 * x * x).sqrt(), x];
                     let point = [gc[0] + off[0], gc[1] + off[1], gc[2] + off[2]];
+                    let eye = v32([base[0], base[1] + 5.0 * small, base[2] + 5.0 * small]);
+                    let e = v64(eye);
+                    let path = v32([point[0] - e[0], point[1] - e[1], point[2] - e[2]]);
                     let hit = Hit {
                         t: 1.0,
                         sphere: 0,
                         point: v32(point),
                         normal: v32([off[0] / big, off[1] / big, off[2] / big]),
                         offset: v32(off),
+                        origin: eye,
+                        path,
                     };
-                    // The hit point is known to half an ulp of the smaller of its coordinates
-                    // and its offset: closer than 4 ulp to the shadow's edge f32 cannot tell.
-                    let p32 = v32(point);
+                    // The hit point is known to half an ulp of the shorter of its offset and
+                    // its path from the eye: closer than 4 ulp to the shadow's edge f32
+                    // cannot tell.
                     let known =
-                        4.0 * common::reference::ulp32(p32.max_abs().min(big as f32) as f64);
+                        4.0 * common::reference::ulp32(path.max_abs().min(big as f32) as f64);
                     for light in [&sun, &bulb] {
                         let got = in_shadow(&scene, &hit, light, None);
                         if rho < 1.0 || (rho - 1.0) * small > known {
@@ -422,7 +428,7 @@ fn extreme_magnitudes_never_give_a_non_finite_hit() {
         for t in [
             ray_intersect(&Ray::new(o, d), &s, tmin, tmax),
             Prepared::exact(o, &s).hit(d, tmin, tmax),
-            Prepared::leaving(o, m, o - m, &s).hit(d, tmin, tmax),
+            Prepared::leaving_hit(m, o - m, &s, d, tmin, tmax).map(|(t, _)| t),
             // the exit root knows no interval: clip it like the others
             exit_root(o - m, d).filter(|&t| t >= tmin && t <= tmax),
         ] {
