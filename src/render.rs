@@ -723,7 +723,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             for i in i0..i1 {
                 let _ = self.average(i, j, |ray| {
                     if let Some(h) = self.primary_hit_among(ray, i, &cull.span) {
-                        extend(h.sphere, h.point);
+                        extend(h.sphere, h.point());
                     }
                     Color::ZERO
                 });

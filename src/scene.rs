@@ -100,28 +100,18 @@ pub struct Hit {
     pub t: f32,
     /// Index of the sphere hit, in the order spheres were added.
     pub sphere: usize,
-    /// The hit point.
-    pub point: Vec3,
     /// Unit normal, turned to face the ray's origin (negated when seen from inside).
     pub normal: Vec3,
     /// `point − centre` (the outward normal times the radius), kept because it is more accurate
     /// than `point − centre` recomputed from a rounded point far from the origin.
     pub offset: Vec3,
-    /// Where the path to this hit began: the primary ray's origin (the eye), kept through
-    /// mirror bounces.
-    pub origin: Vec3,
-    /// `point − origin`, summed as `t·d` along the rays of the path: like `offset`, a short
-    /// vector that is accurate where `point` itself is rounded far from the origin.
-    pub path: Vec3,
-}
-
-impl Hit {
-    /// The hit point as `anchor + rel`, for rays that leave it: `(centre, offset)` of the
-    /// sphere hit (`centre` is its centre) or `(origin, path)`, whichever has the shorter
-    /// vector, hence the smaller error. Differences to other points (`anchor − m`) are then
-    /// exact or nearly, and the error is that of `rel`: it scales with the scene, not with its
-    /// distance from the origin, and is the same whether the scene sits at the origin or 10⁴
-    /// away.
+    /// The hit point as `anchor + rel`, which rays leaving the hit start from: the centre of the
+    /// sphere hit and `offset`, or the point where the path to this hit began (the eye, or the
+    /// previous hit's anchor for a mirror ray) and `t·d` summed along the path from it,
+    /// whichever has the shorter `rel`, hence the smaller error. Differences to other points
+    /// (`anchor − m`) are then exact or nearly, and the error is that of `rel`: it scales with
+    /// the scene, not with its distance from the origin, and is the same whether the scene sits
+    /// at the origin or 10⁴ away.
     ///
     /// ```
     /// use microray::{Material, Ray, Scene, Sphere, Vec3};
@@ -129,17 +119,31 @@ impl Hit {
     /// let mut scene: Scene<1, 0> = Scene::new();
     /// scene.add_sphere(Sphere::new(far, 0.5), Material::default())?;
     /// let eye = far + Vec3::new(0.0, 0.0, 3.0);
-    /// let hit = scene.find_intersection(&Ray::new(eye, Vec3::new(0.0, 0.0, -1.0)), 0.0, 9.0).unwrap();
-    /// assert_eq!(hit.anchor(far), (far, Vec3::new(0.0, 0.0, 0.5))); // the offset is shorter
+    /// let ray = Ray::new(eye, Vec3::new(0.0, 0.0, -1.0));
+    /// let hit = scene.find_intersection(&ray, 0.0, 9.0).unwrap();
+    /// assert_eq!((hit.anchor, hit.rel), (far, Vec3::new(0.0, 0.0, 0.5))); // the offset: shorter
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub anchor: Vec3,
+    /// See [`Hit::anchor`].
+    pub rel: Vec3,
+}
+
+impl Hit {
+    /// The hit point, `anchor + rel` rounded once (rays that leave the hit use the two parts).
+    ///
+    /// ```
+    /// use microray::{Material, Ray, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0), Material::default())?;
+    /// let hit = scene.find_intersection(&Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0)), 0.0, 9.0)
+    ///     .unwrap();
+    /// assert_eq!(hit.point(), Vec3::new(0.0, 0.0, -4.0));
     /// # Ok::<(), microray::Error>(())
     /// ```
     #[inline]
-    pub fn anchor(&self, centre: Vec3) -> (Vec3, Vec3) {
-        if self.offset.max_abs() <= self.path.max_abs() {
-            (centre, self.offset)
-        } else {
-            (self.origin, self.path)
-        }
+    pub fn point(&self) -> Vec3 {
+        self.anchor + self.rel
     }
 }
 
@@ -424,8 +428,9 @@ impl<const S: usize, const L: usize> Scene<S, L> {
 }
 
 /// The hit record for parameter `t` on sphere `i`, given `f = ray origin − centre`, for a
-/// path that began at `origin` and had come `path` from it to the ray's origin. Out of line:
-/// one copy for the renderer's and the shading's callers, which small flash prefers.
+/// path that began at `origin` and had come `path` from it to the ray's origin (see
+/// [`Hit::anchor`]). Out of line: one copy for the renderer's and the shading's callers, which
+/// small flash prefers.
 #[inline(never)]
 pub(crate) fn make_hit(
     ray: &Ray,
@@ -438,8 +443,15 @@ pub(crate) fn make_hit(
 ) -> Hit {
     // The offset from the centre is computed directly (see `hit_point`): unlike
     // `point − centre` it does not lose the low bits of a point far from the origin.
-    let (point, offset) = hit_point(ray, t, f, sphere);
+    let (_, offset) = hit_point(ray, t, f, sphere);
     let outward = offset / sphere.radius;
+    let path = path + ray.dir * t;
+    // |offset| = r: the shorter vector by one comparison of squares.
+    let (anchor, rel) = if sphere.radius * sphere.radius <= path.dot(path) {
+        (sphere.center, offset)
+    } else {
+        (origin, path)
+    };
     let normal = if ray.dir.dot(outward) > 0.0 {
         -outward
     } else {
@@ -448,10 +460,9 @@ pub(crate) fn make_hit(
     Hit {
         t,
         sphere: i,
-        point,
         normal,
         offset,
-        origin,
-        path: path + ray.dir * t,
+        anchor,
+        rel,
     }
 }

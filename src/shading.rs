@@ -96,10 +96,7 @@ pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
     let spheres = scene.spheres();
     // Rays leave the hit at `anchor + rel`, not at the rounded point: differences to other
     // points stay accurate however far from the origin the scene is.
-    let Some(base) = spheres.get(hit.sphere).map(|s| s.center) else {
-        return false;
-    };
-    let (anchor, rel) = hit.anchor(base);
+    let (anchor, rel) = (hit.anchor, hit.rel);
     let blocks = |s, d, tmax| Prepared::leaving_hit(anchor, rel, s, d, T_EPS, tmax).is_some();
     let mut others = candidates.filter(|&j| j != hit.sphere);
     match *light {
@@ -158,13 +155,9 @@ pub fn shade_local<const S: usize, const L: usize>(
 ) -> Color {
     // A hit always names a sphere of this scene; `get` keeps a bounds-check panic out of the
     // render path (an invalid hit shades black).
-    let (Some(m), Some(s)) = (
-        scene.materials().get(hit.sphere),
-        scene.spheres().get(hit.sphere),
-    ) else {
+    let Some(m) = scene.materials().get(hit.sphere) else {
         return Color::ZERO;
     };
-    let (anchor, rel) = hit.anchor(s.center);
     let n = hit.normal;
     let mut colour = m.diffuse.mul_elem(scene.ambient());
     let has_specular = m.specular != Color::ZERO;
@@ -175,7 +168,7 @@ pub fn shade_local<const S: usize, const L: usize>(
         Vec3::ZERO
     };
     for (i, light) in scene.lights().iter().enumerate() {
-        let l = towards(light, anchor, rel);
+        let l = towards(light, hit.anchor, hit.rel);
         let nl = n.dot(l);
         if !(nl > 0.0) || blocked(i) {
             continue;
@@ -225,7 +218,7 @@ pub fn shade<const S: usize, const L: usize>(scene: &Scene<S, L>, ray: &Ray, hit
 #[inline]
 pub fn reflect(ray: &Ray, hit: &Hit) -> Ray {
     let d = ray.dir;
-    Ray::new(hit.point, d - hit.normal * (2.0 * d.dot(hit.normal)))
+    Ray::new(hit.point(), d - hit.normal * (2.0 * d.dot(hit.normal)))
 }
 
 /// The closest hit of a ray that leaves the hit `from` (a mirror ray): the sphere it starts on is
@@ -264,10 +257,7 @@ pub fn find_from<const S: usize, const L: usize>(
             continue;
         }
         let found = match spheres.get(from) {
-            Some(base) => {
-                let (anchor, rel) = hit.anchor(base.center);
-                Prepared::leaving_hit(anchor, rel, s, ray.dir, T_EPS, tmax)
-            }
+            Some(_) => Prepared::leaving_hit(hit.anchor, hit.rel, s, ray.dir, T_EPS, tmax),
             None => {
                 let k = Prepared::new(ray.origin, s);
                 k.hit(ray.dir, T_EPS, tmax).map(|t| (t, k.f))
@@ -278,7 +268,7 @@ pub fn find_from<const S: usize, const L: usize>(
             best = Some((t, j, f, s));
         }
     }
-    best.map(|(t, j, f, s)| make_hit(ray, t, j, f, s, hit.origin, hit.path))
+    best.map(|(t, j, f, s)| make_hit(ray, t, j, f, s, hit.anchor, hit.rel))
 }
 
 /// The colour seen along a ray: the hit's local colour plus its mirror reflections, or the

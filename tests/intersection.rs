@@ -117,7 +117,7 @@ fn find_intersection_takes_the_closest() {
         .unwrap();
     let hit = scene.find_intersection(&down_z(), 0.0, INF).unwrap();
     assert_eq!((hit.sphere, hit.t), (1, 4.0));
-    assert_eq!(hit.point, Vec3::new(0.0, 0.0, -4.0));
+    assert_eq!(hit.point(), Vec3::new(0.0, 0.0, -4.0));
     assert_eq!(hit.normal, Vec3::new(0.0, 0.0, 1.0));
     let hit = scene.find_intersection(&down_z(), 6.1, INF).unwrap();
     assert_eq!((hit.sphere, hit.t), (2, 6.5));

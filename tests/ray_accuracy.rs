@@ -369,20 +369,24 @@ fn contact_shadows_are_kept() {
                     let eye = v32([base[0], base[1] + 5.0 * small, base[2] + 5.0 * small]);
                     let e = v64(eye);
                     let path = v32([point[0] - e[0], point[1] - e[1], point[2] - e[2]]);
+                    let offset = v32(off);
+                    let (anchor, rel) = if ground.radius * ground.radius <= path.dot(path) {
+                        (ground.center, offset)
+                    } else {
+                        (eye, path)
+                    };
                     let hit = Hit {
                         t: 1.0,
                         sphere: 0,
-                        point: v32(point),
                         normal: v32([off[0] / big, off[1] / big, off[2] / big]),
-                        offset: v32(off),
-                        origin: eye,
-                        path,
+                        offset,
+                        anchor,
+                        rel,
                     };
-                    // The hit point is known to half an ulp of the shorter of its offset and
-                    // its path from the eye: closer than 4 ulp to the shadow's edge f32
+                    // The hit point is known to half an ulp of `rel`, the shorter of its offset
+                    // and its path from the eye: closer than 4 ulp to the shadow's edge f32
                     // cannot tell.
-                    let known =
-                        4.0 * common::reference::ulp32(path.max_abs().min(big as f32) as f64);
+                    let known = 4.0 * common::reference::ulp32(rel.max_abs() as f64);
                     for light in [&sun, &bulb] {
                         let got = in_shadow(&scene, &hit, light, None);
                         if rho < 1.0 || (rho - 1.0) * small > known {
