@@ -310,7 +310,7 @@ impl Prepared {
 
     /// [`Prepared::hit`] with `a = d·d` and `b = f·d` already computed.
     #[inline]
-    fn hit_ab(&self, d: Vec3, a: f32, b: f32, tmin: f32, tmax: f32) -> Option<f32> {
+    pub(crate) fn hit_ab(&self, d: Vec3, a: f32, b: f32, tmin: f32, tmax: f32) -> Option<f32> {
         // The same roots as `roots`, with the early exits that make it cost about what the
         // lecture's formula costs: most tests are misses.
         let (f, c, r) = (self.f, self.c, self.r);

@@ -97,15 +97,20 @@ pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
     // Rays leave the hit at `anchor + rel`, not at the rounded point: differences to other
     // points stay accurate however far from the origin the scene is.
     let (anchor, rel) = (hit.anchor, hit.rel);
+    // Its own sphere can block a ray only when the hit is seen from inside: from outside,
+    // a light is asked about only when n·l > 0, and the ray heads out (`exit_root` is None, up
+    // to the rounding of a ray that grazes the tangent plane, which is lit by a zero n·l).
+    let inside = hit.normal.dot(hit.offset) < 0.0;
     let blocks = |s, d, tmax| Prepared::leaving_hit(anchor, rel, s, d, T_EPS, tmax).is_some();
     let mut others = candidates.filter(|&j| j != hit.sphere);
     match *light {
         Light::Point { position, .. } => {
             let to_light = (position - anchor) - rel;
-            if exit_root(hit.offset, to_light).is_some_and(|t| t < 1.0) {
+            if inside && exit_root(hit.offset, to_light).is_some_and(|t| t < 1.0) {
                 return true;
             }
             let d = -to_light;
+            let a = d.dot(d);
             // `get`, not `[j]`: no bounds-check panic linked into the render path.
             others.any(|j| {
                 let Some(s) = spheres.get(j) else {
@@ -118,7 +123,7 @@ pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
                             c,
                             r: s.radius,
                         };
-                        k.hit(d, T_EPS, T_BELOW_ONE).is_some()
+                        k.hit_ab(d, a, k.f.dot(d), T_EPS, T_BELOW_ONE).is_some()
                     }
                     _ => blocks(s, to_light, T_BELOW_ONE),
                 }
@@ -126,7 +131,7 @@ pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
         }
         Light::Directional { direction, .. } => {
             let l = -direction;
-            exit_root(hit.offset, l).is_some()
+            (inside && exit_root(hit.offset, l).is_some())
                 || others.any(|j| spheres.get(j).is_some_and(|s| blocks(s, l, f32::INFINITY)))
         }
     }
