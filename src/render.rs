@@ -37,7 +37,7 @@ use crate::geometry::{hit_point, Prepared, Ray};
 use crate::math::{powf, Color, Vec3};
 use crate::raster::{PixelBox, Screen, ETA};
 use crate::scene::{make_hit, Hit, Light, Scene};
-use crate::shading::{follow, in_shadow_among, shade_local, T_EPS};
+use crate::shading::{follow, in_shadow_among, shade_lit, T_EPS};
 
 /// How linear colour becomes a byte.
 ///
@@ -356,22 +356,20 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             } else {
                 None
             };
-            shade_local(scene, hit, ray.dir, |i| {
-                // `get`, not `[i]`: no bounds-check panic linked into the render path.
-                scene.shadows()
-                    && scene.lights().get(i).is_some_and(|light| {
-                        let cs = self.light_consts(i, light);
-                        let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
-                        // One iterator type for both cases: one copy of the shadow tests.
-                        let cands = lists.and_then(|l| l.light(hit.sphere, i));
-                        let n = cands.map_or(scene.spheres().len(), |c| c.len());
-                        let pick = move |k: usize| match cands {
-                            // `k < c.len()`; an index past the scene would test nothing.
-                            Some(c) => c.get(k).map_or(usize::MAX, |&j| j as usize),
-                            None => k,
-                        };
-                        in_shadow_among(scene, hit, light, consts, (0..n).map(pick))
-                    })
+            shade_lit(scene, hit, ray.dir, |i, light, v| {
+                scene.shadows() && {
+                    let cs = self.light_consts(i, light);
+                    let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
+                    // One iterator type for both cases: one copy of the shadow tests.
+                    let cands = lists.and_then(|l| l.light(hit.sphere, i));
+                    let n = cands.map_or(scene.spheres().len(), |c| c.len());
+                    let pick = move |k: usize| match cands {
+                        // `k < c.len()`; an index past the scene would test nothing.
+                        Some(c) => c.get(k).map_or(usize::MAX, |&j| j as usize),
+                        None => k,
+                    };
+                    in_shadow_among(scene, hit, light, v, consts, (0..n).map(pick))
+                }
             })
         })
     }

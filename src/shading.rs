@@ -22,13 +22,22 @@ const T_BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
 /// (within 32 radii of the light), see [`in_shadow`].
 const NEAR_LIGHT: f32 = 1023.0;
 
-/// Where the light comes from at the hit point `anchor + rel` (see [`Hit::anchor`]): the unit
-/// vector `l` towards it.
+/// Where the light comes from at the hit point `anchor + rel` (see [`Hit::anchor`]): the
+/// vector from the hit to a point light (the shadow ray, `0 < t < 1`) or the unit vector
+/// towards a directional one.
 #[inline]
-fn towards(light: &Light, anchor: Vec3, rel: Vec3) -> Vec3 {
+fn to_light(light: &Light, anchor: Vec3, rel: Vec3) -> Vec3 {
     match *light {
-        Light::Point { position, .. } => {
-            let v = (position - anchor) - rel;
+        Light::Point { position, .. } => (position - anchor) - rel,
+        Light::Directional { direction, .. } => -direction,
+    }
+}
+
+/// The unit vector `l` along [`to_light`]'s `v`.
+#[inline]
+fn unit_towards(light: &Light, v: Vec3) -> Vec3 {
+    match *light {
+        Light::Point { .. } => {
             let ll = v.dot(v);
             // |v|² overflows beyond ~10¹⁹ and underflows below ~10⁻¹⁹: then the guarded form
             // (and no light at all from a light exactly at p).
@@ -38,7 +47,7 @@ fn towards(light: &Light, anchor: Vec3, rel: Vec3) -> Vec3 {
                 v.normalized().unwrap_or(Vec3::ZERO)
             }
         }
-        Light::Directional { direction, .. } => -direction,
+        Light::Directional { .. } => v,
     }
 }
 
@@ -73,6 +82,7 @@ pub fn in_shadow<const S: usize, const L: usize>(
         scene,
         hit,
         light,
+        to_light(light, hit.anchor, hit.rel),
         |j| from_light.and_then(|k| k.get(j)).map(|k| k.c),
         0..scene.spheres().len(),
     )
@@ -84,12 +94,13 @@ pub fn in_shadow<const S: usize, const L: usize>(
 /// the same bit for bit; only fewer spheres are asked. `light_c(j)`, for a point light, is
 /// `c = |light − m|² − r²` of [`Prepared::exact`] for sphere `j`: the rest of those constants is
 /// rebuilt exactly as `Prepared::exact` computes it, so a frame stores 4 bytes per light and
-/// sphere instead of 20.
+/// sphere instead of 20. `v` is [`to_light`] of the hit, which shading has computed already.
 #[inline]
 pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
     scene: &Scene<S, L>,
     hit: &Hit,
     light: &Light,
+    v: Vec3,
     light_c: impl Fn(usize) -> Option<f32>,
     candidates: impl Iterator<Item = usize>,
 ) -> bool {
@@ -105,7 +116,7 @@ pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
     let mut others = candidates.filter(|&j| j != hit.sphere);
     match *light {
         Light::Point { position, .. } => {
-            let to_light = (position - anchor) - rel;
+            let to_light = v;
             if inside && exit_root(hit.offset, to_light).is_some_and(|t| t < 1.0) {
                 return true;
             }
@@ -129,8 +140,8 @@ pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
                 }
             })
         }
-        Light::Directional { direction, .. } => {
-            let l = -direction;
+        Light::Directional { .. } => {
+            let l = v;
             (inside && exit_root(hit.offset, l).is_some())
                 || others.any(|j| spheres.get(j).is_some_and(|s| blocks(s, l, f32::INFINITY)))
         }
@@ -158,6 +169,18 @@ pub fn shade_local<const S: usize, const L: usize>(
     dir: Vec3,
     mut blocked: impl FnMut(usize) -> bool,
 ) -> Color {
+    shade_lit(scene, hit, dir, |i, _, _| blocked(i))
+}
+
+/// [`shade_local`] with `blocked(i, light, v)` also given the light and its [`to_light`] vector,
+/// which the shadow test needs too.
+#[inline]
+pub(crate) fn shade_lit<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    hit: &Hit,
+    dir: Vec3,
+    mut blocked: impl FnMut(usize, &Light, Vec3) -> bool,
+) -> Color {
     // A hit always names a sphere of this scene; `get` keeps a bounds-check panic out of the
     // render path (an invalid hit shades black).
     let Some(m) = scene.materials().get(hit.sphere) else {
@@ -173,9 +196,10 @@ pub fn shade_local<const S: usize, const L: usize>(
         Vec3::ZERO
     };
     for (i, light) in scene.lights().iter().enumerate() {
-        let l = towards(light, hit.anchor, hit.rel);
+        let to = to_light(light, hit.anchor, hit.rel);
+        let l = unit_towards(light, to);
         let nl = n.dot(l);
-        if !(nl > 0.0) || blocked(i) {
+        if !(nl > 0.0) || blocked(i, light, to) {
             continue;
         }
         let mut c = m.diffuse * nl;
