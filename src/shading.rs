@@ -112,7 +112,7 @@ pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
     // a light is asked about only when n·l > 0, and the ray heads out (`exit_root` is None, up
     // to the rounding of a ray that grazes the tangent plane, which is lit by a zero n·l).
     let inside = hit.normal.dot(hit.offset) < 0.0;
-    let blocks = |s, d, tmax| Prepared::leaving_hit(anchor, rel, s, d, T_EPS, tmax).is_some();
+    let blocks = |s, d, tmax| Prepared::leaving_blocks(anchor, rel, s, d, tmax);
     let mut others = candidates.filter(|&j| j != hit.sphere);
     match *light {
         Light::Point { position, .. } => {

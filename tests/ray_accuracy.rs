@@ -450,3 +450,63 @@ fn extreme_magnitudes_never_give_a_non_finite_hit() {
     println!("{n} queries, {hits} hits");
     assert!(hits > 100, "the test must exercise hits too");
 }
+
+/// The shadow test that decides clear cases without the root or the f64 `c`
+/// (`Prepared::leaving_blocks`) answers as the full test (`leaving_hit`) does, on rays from
+/// points near a sphere's surface (where the full test needs f64) in every direction: from a
+/// ground point next to a ball resting on it, from inside, grazing, at radii 10⁻² … 10⁶ and
+/// 10⁴ from the origin.
+#[test]
+fn shadow_test_shortcut_agrees_with_the_full_test() {
+    let mut g = Rng(2026);
+    let (mut n, mut hits, mut near) = (0, 0, 0);
+    for _ in 0..400_000 {
+        let r = 10f64.powf(g.range(-2.0, 6.0));
+        let shift = if g.u() < 0.5 { 0.0 } else { 1e4 };
+        let m = [shift + g.range(-1.0, 1.0), shift, -shift];
+        // an anchor (another sphere's centre) and a short rel to a point within 0.8 r of the
+        // surface, inside or out
+        let u = g.dir();
+        let dist = r * g.range(0.2, 1.8);
+        let p = [m[0] + u[0] * dist, m[1] + u[1] * dist, m[2] + u[2] * dist];
+        let w = g.dir();
+        let k = g.range(0.0, 1.5) * r;
+        let anchor = v32([p[0] + w[0] * k, p[1] + w[1] * k, p[2] + w[2] * k]);
+        let a64 = v64(anchor);
+        let rel = v32([p[0] - a64[0], p[1] - a64[1], p[2] - a64[2]]);
+        // directions whose closest approach to the centre is r (1 + δ): half of them graze
+        // the sphere (|δ| ≤ 10⁻⁴), half pass anywhere near it; from inside, any direction
+        let delta = if g.u() < 0.5 { 1e-4 } else { 0.5 } * g.range(-1.0, 1.0);
+        let e = g.dir();
+        // q: a unit vector perpendicular to u
+        let q = {
+            let dot = e[0] * u[0] + e[1] * u[1] + e[2] * u[2];
+            let v = [e[0] - dot * u[0], e[1] - dot * u[1], e[2] - dot * u[2]];
+            let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            [v[0] / len, v[1] / len, v[2] / len]
+        };
+        let rd = r * (1.0 + delta);
+        let h = if dist > rd * 1.001 {
+            rd * dist / (dist * dist - rd * rd).sqrt()
+        } else {
+            0.7 * r
+        };
+        let target = [m[0] + q[0] * h, m[1] + q[1] * h, m[2] + q[2] * h];
+        let d = v32([target[0] - p[0], target[1] - p[1], target[2] - p[2]]);
+        let s = Sphere::new(v32(m), r as f32);
+        near += ((dist - r).abs() < 0.73 * r) as usize;
+        for tmax in [f32::INFINITY, 1.0 - f32::EPSILON / 2.0] {
+            let full = Prepared::leaving_hit(anchor, rel, &s, d, f32::MIN_POSITIVE, tmax);
+            let quick = Prepared::leaving_blocks(anchor, rel, &s, d, tmax);
+            assert_eq!(
+                quick,
+                full.is_some(),
+                "anchor {anchor:?} rel {rel:?} {s:?} d {d:?} tmax {tmax} full {full:?}"
+            );
+            n += 1;
+            hits += quick as usize;
+        }
+    }
+    println!("{n} shadow tests, {hits} blocked, {near} origins where c needs f64");
+    assert!(hits > n / 10 && hits < n * 9 / 10 && near > 100_000);
+}
