@@ -694,6 +694,22 @@ fn main() {
         }
         acc
     };
+    // ... and as it tests shadow rays: any hit, no root (Prepared::leaving_blocks)
+    let sum_blocks = || {
+        let mut acc = 0.0;
+        for &(o, d, from) in &shadow_rays {
+            let base = lit_spheres[from].center;
+            let offset = o - base;
+            for (j, s) in lit_spheres.iter().enumerate() {
+                if j != from
+                    && Prepared::leaving_blocks(black_box(base), offset, s, d, f32::INFINITY)
+                {
+                    acc += 1.0;
+                }
+            }
+        }
+        acc
+    };
     let shadow_items = shadow_rays.len() * (lit_spheres.len() - 1);
     let ns2 = time_all(
         shadow_items,
@@ -705,6 +721,7 @@ fn main() {
             &mut || sum_shadow(default_per_ray),
             &mut || sum_shadow(exact_per_ray),
             &mut || sum_shading(),
+            &mut || sum_blocks(),
         ],
     );
     let frame_errors = errors(&cases, |o, d, s| {
@@ -779,7 +796,8 @@ fn main() {
         "stable roots + Hearn-Baker, f32 c",
         "default, per ray (Prepared::new + hit)",
         "alternative: c always in f64, per ray",
-        "default as shading calls it (Prepared::leaving_hit)",
+        "default as mirror rays call it (Prepared::leaving_hit)",
+        "default as shadow rays call it (Prepared::leaving_blocks: any hit, no root)",
     ]
     .iter()
     .enumerate()
