@@ -326,11 +326,37 @@ pub(crate) fn follow<const S: usize, const L: usize>(
     first: Option<Hit>,
     mut local: impl FnMut(&Hit, &Ray) -> Color,
 ) -> Color {
-    let mut ray = *primary;
-    let mut hit = first;
-    let mut weight = Color::ONE;
-    let mut colour = Color::ZERO;
-    let mut depth = 0;
+    // The primary hit on its own: most hits are not mirrors, and the bounce loop, out of
+    // line, keeps its state out of their registers.
+    let Some(h) = first else {
+        return scene.background();
+    };
+    let colour = local(&h, primary);
+    let km = scene
+        .materials()
+        .get(h.sphere)
+        .map_or(Color::ZERO, |m| m.mirror);
+    if km == Color::ZERO || scene.max_depth() == 0 {
+        return colour;
+    }
+    bounce(scene, primary, &h, colour, km, &mut local)
+}
+
+/// The mirror bounces after `first`, a hit along `ray` whose colour so far is `colour` and
+/// whose mirror colour is `km` (see [`follow`]).
+#[inline(never)]
+fn bounce<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    ray: &Ray,
+    first: &Hit,
+    mut colour: Color,
+    km: Color,
+    local: &mut impl FnMut(&Hit, &Ray) -> Color,
+) -> Color {
+    let mut weight = km;
+    let mut ray = reflect(ray, first);
+    let mut hit = find_from(scene, &ray, first);
+    let mut depth = 1;
     loop {
         let Some(h) = hit else {
             return colour + weight.mul_elem(scene.background());
