@@ -33,7 +33,7 @@
 //! target (soft-float included), so a microcontroller still computes the host's bits.
 //! docs/numerics.md measures what each of these costs and buys.
 
-use crate::math::{sqrt, Vec3};
+use crate::math::{finite, sqrt, Vec3};
 
 /// A ray `origin + t·dir`; `dir` need not be unit length.
 ///
@@ -221,7 +221,7 @@ impl Prepared {
     fn finish(f: Vec3, r: f32, exact: impl FnOnce() -> f64) -> Self {
         let (ff, rr) = (f.dot(f), r * r);
         let c = ff - rr;
-        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && c.is_finite() {
+        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && finite(c) {
             c
         } else {
             exact() as f32
@@ -287,7 +287,7 @@ impl Prepared {
         if c > (ff + rr) * (1.0 / 1_048_576.0) && b >= 0.0 && tmin >= 0.0 {
             return None;
         }
-        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && c.is_finite() {
+        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && finite(c) {
             c
         } else {
             c_f64_surface(anchor, rel, sphere) as f32
@@ -325,7 +325,7 @@ impl Prepared {
             return false;
         }
         let a = d.dot(d);
-        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && c.is_finite() {
+        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && finite(c) {
             c
         } else {
             // Hearn–Baker's a (r² − |l|²) is within ~8ε a (r² + |f|²) of the exact b² − ac
@@ -333,7 +333,7 @@ impl Prepared {
             let l = f - d * (b / a);
             let disc = a * (rr - l.dot(l));
             let margin = a * (rr + ff) * (1.0 / 1_048_576.0);
-            if disc.is_finite() && margin.is_finite() {
+            if finite(disc) && finite(margin) {
                 if disc < -margin {
                     return false;
                 }
@@ -384,9 +384,9 @@ impl Prepared {
             let l = f - d * (b / a);
             a * (rr - l.dot(l))
         };
-        if !((0.0..=f32::MAX).contains(&disc) && c.is_finite()) {
+        if !((0.0..=f32::MAX).contains(&disc) && finite(c)) {
             // Overflow shows as ±∞ or NaN somewhere on the way to disc (or in c).
-            if disc < 0.0 && disc.is_finite() {
+            if disc < 0.0 && finite(disc) {
                 return None;
             }
             return select(roots_f64(f, d, r)?, tmin, tmax);

@@ -232,6 +232,18 @@ impl From<[f32; 3]> for Vec3 {
     }
 }
 
+/// Whether `x` is neither infinite nor NaN, by a float comparison: `f32::is_finite` tests the
+/// bits, which on a Cortex-M4F moves the value to an integer register and back.
+///
+/// ```
+/// use microray::math::finite;
+/// assert!(finite(f32::MAX) && !finite(f32::INFINITY) && !finite(f32::NAN));
+/// ```
+#[inline]
+pub fn finite(x: f32) -> bool {
+    libm::fabsf(x) <= f32::MAX
+}
+
 /// The correctly rounded square root.
 ///
 /// On Cortex-M4F/M7 (`thumbv7em-none-eabihf`) this is the `vsqrt.f32` instruction; elsewhere

@@ -41,7 +41,7 @@ fn unit_towards(light: &Light, v: Vec3) -> Vec3 {
             let ll = v.dot(v);
             // |v|² overflows beyond ~10¹⁹ and underflows below ~10⁻¹⁹: then the guarded form
             // (and no light at all from a light exactly at p).
-            if ll.is_finite() && ll >= f32::MIN_POSITIVE {
+            if (f32::MIN_POSITIVE..=f32::MAX).contains(&ll) {
                 v / crate::math::sqrt(ll)
             } else {
                 v.normalized().unwrap_or(Vec3::ZERO)
