@@ -283,8 +283,16 @@ impl Prepared {
         let (ff, rr) = (f.dot(f), r * r);
         let c = ff - rr;
         let b = f.dot(d);
-        // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f).
-        if c > (ff + rr) * (1.0 / 1_048_576.0) && b >= 0.0 && tmin >= 0.0 {
+        // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f):
+        // clear misses (as in `hit_ab`, with that error too) and spheres certainly behind are
+        // decided before an f64 c.
+        let err_c = (ff + rr) * (1.0 / 1_048_576.0);
+        let a = d.dot(d);
+        let bb = b * b;
+        if bb - a * c < -(bb + a * (libm::fabsf(c) + err_c)) * (1.0 / 262_144.0) {
+            return None;
+        }
+        if c > err_c && b >= 0.0 && tmin >= 0.0 {
             return None;
         }
         let c = if libm::fabsf(c) > (ff + rr) * CANCEL && finite(c) {
@@ -293,7 +301,7 @@ impl Prepared {
             c_f64_surface(anchor, rel, sphere) as f32
         };
         let k = Prepared { f, c, r };
-        k.hit_ab(d, d.dot(d), b, tmin, tmax).map(|t| (t, f))
+        k.hit_ab(d, a, b, tmin, tmax).map(|t| (t, f))
     }
 
     /// Whether the shadow ray from `anchor + rel` along `d` meets `sphere` at some
@@ -321,10 +329,17 @@ impl Prepared {
         let c = ff - rr;
         let b = f.dot(d);
         let err_c = (ff + rr) * (1.0 / 1_048_576.0);
+        // Most shadow tests miss the sphere's whole line: b² − ac is then below minus its
+        // error bound (its rounding, that of b, and `err_c` of the f32 c), one branch that
+        // decides them before anything else.
+        let a = d.dot(d);
+        let bb = b * b;
+        if bb - a * c < -(bb + a * (libm::fabsf(c) + err_c)) * (1.0 / 262_144.0) {
+            return false;
+        }
         if c > err_c && b >= 0.0 {
             return false;
         }
-        let a = d.dot(d);
         let c = if libm::fabsf(c) > (ff + rr) * CANCEL && finite(c) {
             c
         } else {
@@ -366,21 +381,22 @@ impl Prepared {
         // The same roots as `roots`, with the early exits that make it cost about what the
         // lecture's formula costs: most tests are misses.
         let (f, c, r) = (self.f, self.c, self.r);
+        // b² − ac is off by a few ε (b² + a|c|) (its rounding, and that of b and c); a value
+        // below −2⁻¹⁸ of that misses the sphere's whole line whatever the rounding. Most tests
+        // are such misses: one branch first, and no Hearn–Baker divide for them.
+        let bb = b * b;
+        let disc0 = bb - a * c;
+        if disc0 < -(bb + a * libm::fabsf(c)) * (1.0 / 262_144.0) {
+            return None;
+        }
         // Outside (c > 0) and heading away (b ≥ 0): both roots are negative.
         if c > 0.0 && b >= 0.0 && tmin >= 0.0 {
             return None;
         }
         let rr = r * r;
-        let bb = b * b;
-        let disc0 = bb - a * c;
         let disc = if libm::fabsf(c) <= rr {
             disc0
         } else {
-            // b² − ac is off by a few ε (b² + a|c|) (its rounding, and that of b and c); a value
-            // below −2⁻¹⁸ of that is a miss whatever the rounding, without Hearn–Baker's divide.
-            if disc0 < -(bb + a * libm::fabsf(c)) * (1.0 / 262_144.0) {
-                return None;
-            }
             let l = f - d * (b / a);
             a * (rr - l.dot(l))
         };
