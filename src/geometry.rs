@@ -278,30 +278,7 @@ impl Prepared {
         tmin: f32,
         tmax: f32,
     ) -> Option<(f32, Vec3)> {
-        let f = (anchor - sphere.center) + rel;
-        let r = sphere.radius;
-        let (ff, rr) = (f.dot(f), r * r);
-        let c = ff - rr;
-        let b = f.dot(d);
-        // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f):
-        // clear misses (as in `hit_ab`, with that error too) and spheres certainly behind are
-        // decided before an f64 c.
-        let err_c = (ff + rr) * (1.0 / 1_048_576.0);
-        let a = d.dot(d);
-        let bb = b * b;
-        if bb - a * c < -(bb + a * (libm::fabsf(c) + err_c)) * (1.0 / 262_144.0) {
-            return None;
-        }
-        if c > err_c && b >= 0.0 && tmin >= 0.0 {
-            return None;
-        }
-        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && finite(c) {
-            c
-        } else {
-            c_f64_surface(anchor, rel, sphere) as f32
-        };
-        let k = Prepared { f, c, r };
-        k.hit_ab(d, a, b, tmin, tmax).map(|t| (t, f))
+        Prepared::leaving_test(anchor, rel, sphere, d, tmin, tmax, false)
     }
 
     /// Whether the shadow ray from `anchor + rel` along `d` meets `sphere` at some
@@ -322,45 +299,62 @@ impl Prepared {
     /// ```
     #[inline]
     pub fn leaving_blocks(anchor: Vec3, rel: Vec3, sphere: &Sphere, d: Vec3, tmax: f32) -> bool {
-        // `leaving_hit` with the decision inserted before its f64 `c`.
+        Prepared::leaving_test(anchor, rel, sphere, d, f32::MIN_POSITIVE, tmax, true).is_some()
+    }
+
+    /// [`Prepared::leaving_hit`]; with `any_hit`, [`Prepared::leaving_blocks`], where a clear
+    /// hit may come back with a NaN `t`: only whether there is one is asked.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn leaving_test(
+        anchor: Vec3,
+        rel: Vec3,
+        sphere: &Sphere,
+        d: Vec3,
+        tmin: f32,
+        tmax: f32,
+        any_hit: bool,
+    ) -> Option<(f32, Vec3)> {
         let f = (anchor - sphere.center) + rel;
         let r = sphere.radius;
         let (ff, rr) = (f.dot(f), r * r);
         let c = ff - rr;
         let b = f.dot(d);
+        // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f):
+        // clear misses of the sphere's line (as in `hit_ab`, with that error too; most tests)
+        // and spheres certainly behind are decided before an f64 c.
         let err_c = (ff + rr) * (1.0 / 1_048_576.0);
-        // Most shadow tests miss the sphere's whole line: b² − ac is then below minus its
-        // error bound (its rounding, that of b, and `err_c` of the f32 c), one branch that
-        // decides them before anything else.
         let a = d.dot(d);
         let bb = b * b;
         if bb - a * c < -(bb + a * (libm::fabsf(c) + err_c)) * (1.0 / 262_144.0) {
-            return false;
+            return None;
         }
-        if c > err_c && b >= 0.0 {
-            return false;
+        if c > err_c && b >= 0.0 && tmin >= 0.0 {
+            return None;
         }
         let c = if libm::fabsf(c) > (ff + rr) * CANCEL && finite(c) {
             c
         } else {
-            // Hearn–Baker's a (r² − |l|²) is within ~8ε a (r² + |f|²) of the exact b² − ac
-            // (the rounding of b/a, l and its square): 2⁻²⁰ of that is a clear sign.
-            let l = f - d * (b / a);
-            let disc = a * (rr - l.dot(l));
-            let margin = a * (rr + ff) * (1.0 / 1_048_576.0);
-            if finite(disc) && finite(margin) {
-                if disc < -margin {
-                    return false;
-                }
-                // Outside, heading in, meeting it: both roots are positive.
-                if disc > margin && c > err_c && b < 0.0 && tmax == f32::INFINITY {
-                    return true;
+            if any_hit {
+                // Hearn–Baker's a (r² − |l|²) is within ~8ε a (r² + |f|²) of the exact b² − ac
+                // (the rounding of b/a, l and its square): 2⁻²⁰ of that is a clear sign.
+                let l = f - d * (b / a);
+                let disc = a * (rr - l.dot(l));
+                let margin = a * (rr + ff) * (1.0 / 1_048_576.0);
+                if finite(disc) && finite(margin) {
+                    if disc < -margin {
+                        return None;
+                    }
+                    // Outside, heading in, meeting it: both roots are positive.
+                    if disc > margin && c > err_c && b < 0.0 && tmax == f32::INFINITY {
+                        return Some((f32::NAN, f));
+                    }
                 }
             }
             c_f64_surface(anchor, rel, sphere) as f32
         };
         let k = Prepared { f, c, r };
-        k.hit_ab(d, a, b, f32::MIN_POSITIVE, tmax).is_some()
+        k.hit_ab(d, a, b, tmin, tmax).map(|t| (t, f))
     }
 
     /// The closest root in `[tmin, tmax]` of the ray from this origin along `d` (any length).
