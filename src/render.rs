@@ -90,21 +90,26 @@ impl Default for RenderOptions {
 /// ```
 #[inline]
 pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
-    let c = if c > 0.0 {
-        if c < 1.0 {
-            c
-        } else {
-            1.0
+    let v = match encoding {
+        // Not clamped first: 255c + 0.5 is monotone in c, so a c ≥ 1 gives ≥ 255.5 and a
+        // c ≤ 0 at most 0.5, which the cast below maps to 255 and 0 as the clamp would.
+        Encoding::Linear => 255.0 * c + 0.5,
+        Encoding::Srgb => {
+            let c = if c > 0.0 {
+                if c < 1.0 {
+                    c
+                } else {
+                    1.0
+                }
+            } else {
+                0.0
+            };
+            255.0 * srgb(c) + 0.5
         }
-    } else {
-        0.0
     };
-    let e = match encoding {
-        Encoding::Linear => c,
-        Encoding::Srgb => srgb(c),
-    };
-    // 0 ≤ 255e + 0.5 < 256, so truncation is floor and the cast cannot wrap.
-    (255.0 * e + 0.5) as u8
+    // The cast saturates (negative and NaN to 0), which a Cortex-M4F's `vcvt` does by itself,
+    // and truncates, which is floor for v ≥ 0: no range checks around it.
+    (v as u32).min(255) as u8
 }
 
 /// The sRGB transfer curve on [0, 1]. Out of line: one copy for the three channels.
