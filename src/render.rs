@@ -540,11 +540,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let shadow = if cull.culled { Some(&*cull) } else { None };
         let c = if cull.stored {
             let k = (i - cull.span_start) as usize;
-            let ray = self.camera.view_ray(i, j, 0, 0, 1);
-            // The hit record from (t, sphere): `make_hit` is a pure function of them.
-            let first = cull
-                .hit(k)
-                .and_then(|(t, s)| self.eye_hit(&ray, t, s as usize));
+            let (ray, first) = match cull.hit(k) {
+                Some((t, s)) => {
+                    let ray = self.camera.view_ray(i, j, 0, 0, 1);
+                    // The hit record from (t, sphere): `make_hit` is a pure function of them.
+                    (ray, self.eye_hit(&ray, t, s as usize))
+                }
+                // A miss shows the background, whatever its ray: no view ray to build.
+                None => (Ray::new(self.camera.eye(), Vec3::ZERO), None),
+            };
             self.shade_from(&ray, first, shadow)
         } else {
             self.average(i, j, |ray| {
