@@ -683,15 +683,24 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // and the box of each group's points.
         let spheres = self.scene.spheres();
         let mut groups = [Group::EMPTY; GROUPS];
+        // The group of the previous hit's sphere: a sphere keeps its group once it has one,
+        // and neighbouring pixels mostly hit the same sphere.
+        let mut last = (usize::MAX, 0);
         let mut extend = |sphere: usize, p: Vec3| {
-            let g = group_of(&groups, sphere).unwrap_or_else(|| {
-                // A new group while there is room; the last one takes every other sphere.
-                let free = groups.iter().position(|g| g.sphere == NONE);
-                match free {
-                    Some(k) if k + 1 < GROUPS => k,
-                    _ => GROUPS - 1,
-                }
-            });
+            let g = if sphere == last.0 {
+                last.1
+            } else {
+                let g = group_of(&groups, sphere).unwrap_or_else(|| {
+                    // A new group while there is room; the last one takes every other sphere.
+                    let free = groups.iter().position(|g| g.sphere == NONE);
+                    match free {
+                        Some(k) if k + 1 < GROUPS => k,
+                        _ => GROUPS - 1,
+                    }
+                });
+                last = (sphere, g);
+                g
+            };
             if let Some(gr) = groups.get_mut(g) {
                 if gr.sphere == NONE {
                     gr.sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
