@@ -542,7 +542,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let k = (i - cull.span_start) as usize;
             let (ray, first) = match cull.hit(k) {
                 Some((t, s)) => {
-                    let ray = self.camera.view_ray(i, j, 0, 0, 1);
+                    let ray = match cull.hit_d.get(k) {
+                        Some(&dir) => Ray::new(self.camera.eye(), dir),
+                        None => self.camera.view_ray(i, j, 0, 0, 1),
+                    };
                     // The hit record from (t, sphere): `make_hit` is a pure function of them.
                     (ray, self.eye_hit(&ray, t, s as usize))
                 }
@@ -731,6 +734,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     if let (Some(k), Some(sphere)) = (self.eye.get(s), spheres.get(s)) {
                         extend(s, hit_point(&ray, t, k.f, sphere).0);
                     }
+                    // Only a hit is shaded with its ray.
+                    if let Some(d) = cull.hit_d.get_mut(k) {
+                        *d = ray.dir;
+                    }
                 }
                 if let (Some(t), Some(s)) = (cull.hit_t.get_mut(k), cull.hit_s.get_mut(k)) {
                     (*t, *s) = h.map_or((0.0, NONE), |(t, s)| (t, s as u16));
@@ -826,6 +833,14 @@ const GROUPS: usize = 4;
 const NONE: u16 = u16::MAX;
 /// The group of every other sphere.
 const REST: u16 = u16::MAX - 1;
+/// Span pixels whose view ray direction is kept for shading: all, which spares a second square
+/// root and three divides per hit, except on soft-float Arm (Cortex-M0), whose deeper render
+/// stack has no room for the 12 bytes a pixel (it rebuilds the ray instead).
+const DIRS: usize = if cfg!(all(target_arch = "arm", not(target_abi = "eabihf"))) {
+    0
+} else {
+    SPAN
+};
 /// A light's pool range when it must test every sphere (empty as `a..b`: `a > b`).
 const ALL: (u16, u16) = (u16::MAX, 0);
 
@@ -1062,10 +1077,12 @@ struct Cull<const S: usize, const L: usize> {
     /// Shadow lists are valid for this span.
     culled: bool,
     /// `hit_t`, `hit_s` hold the span's primary hits (one sample per pixel) as `t` and sphere
-    /// (`NONE`: no hit): 6 bytes a pixel, for microcontroller stacks.
+    /// (`NONE`: no hit), and `hit_d` (see [`DIRS`]) the direction of each hit's view ray: 6 or
+    /// 18 bytes a pixel, for microcontroller stacks.
     stored: bool,
     hit_t: [f32; SPAN],
     hit_s: [u16; SPAN],
+    hit_d: [Vec3; DIRS],
 }
 
 impl<const S: usize, const L: usize> Cull<S, L> {
@@ -1083,6 +1100,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             // Zeros, which the compiler writes in place; a span writes them before use.
             hit_t: [0.0; SPAN],
             hit_s: [0; SPAN],
+            hit_d: [Vec3::ZERO; DIRS],
         }
     }
 
