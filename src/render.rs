@@ -356,8 +356,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let scene = self.scene;
         let mut primary = true;
         follow(scene, ray, first, |hit, ray| {
+            // The primary hit's group is found once, for all lights.
             let lists = if core::mem::replace(&mut primary, false) {
-                shadow
+                shadow.and_then(|c| c.lists(hit.sphere))
             } else {
                 None
             };
@@ -368,7 +369,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         let cs = self.light_consts(i, light);
                         let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
                         // One iterator type for both cases: one copy of the shadow tests.
-                        let cands = lists.and_then(|l| l.light(hit.sphere, i));
+                        let cands = lists.and_then(|l| l.light(i));
                         let n = cands.map_or(scene.spheres().len(), |c| c.len());
                         let pick = move |k: usize| match cands {
                             // `k < c.len()`; an index past the scene would test nothing.
@@ -1113,10 +1114,9 @@ impl<const S: usize, const L: usize> Cull<S, L> {
         }
     }
 
-    /// The candidate blockers of light `i` for a primary hit on `sphere`, or `None` when it
-    /// must test every sphere.
+    /// The shadow lists of a primary hit on `sphere`: its group's pool range per light.
     #[inline]
-    fn light(&self, sphere: usize, i: usize) -> Option<&[u16]> {
+    fn lists(&self, sphere: usize) -> Option<Lists<'_, L>> {
         let mut g = None;
         for (k, &s) in self.groups.iter().enumerate() {
             if s as usize == sphere && s < REST {
@@ -1127,7 +1127,25 @@ impl<const S: usize, const L: usize> Cull<S, L> {
                 g = Some(k);
             }
         }
-        let (a, b) = self.ranges.get(g?)?.get(i).copied()?;
+        Some(Lists {
+            ranges: self.ranges.get(g?)?,
+            pool: &self.pool,
+        })
+    }
+}
+
+/// The shadow lists of one primary hit (see [`Cull::lists`]).
+#[derive(Debug, Clone, Copy)]
+struct Lists<'c, const L: usize> {
+    ranges: &'c [(u16, u16); L],
+    pool: &'c [u16],
+}
+
+impl<'c, const L: usize> Lists<'c, L> {
+    /// The candidate blockers of light `i`, or `None` when it must test every sphere.
+    #[inline]
+    fn light(self, i: usize) -> Option<&'c [u16]> {
+        let (a, b) = self.ranges.get(i).copied()?;
         // `ALL` has a > b: no slice.
         self.pool.get(a as usize..b as usize)
     }
