@@ -312,15 +312,24 @@ pub fn spec_pow(x: f32, s: f32) -> f32 {
     if n as f32 != s || n > 1 << 16 {
         return libm::powf(x, s);
     }
-    let (mut base, mut e, mut acc) = (x, n, 1.0f32);
-    loop {
+    if n == 0 {
+        return 1.0;
+    }
+    // Right-to-left binary powering; the lowest set bit's power starts the product (the same
+    // bits as 1 · x^(2^k)), so whole powers of two cost their squarings only.
+    let (mut base, mut e) = (x, n);
+    while e & 1 == 0 {
+        base *= base;
+        e >>= 1;
+    }
+    let mut acc = base;
+    e >>= 1;
+    while e != 0 {
+        base *= base;
         if e & 1 == 1 {
             acc *= base;
         }
         e >>= 1;
-        if e == 0 {
-            return acc;
-        }
-        base *= base;
     }
+    acc
 }
