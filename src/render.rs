@@ -107,9 +107,9 @@ pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
             255.0 * srgb(c) + 0.5
         }
     };
-    // The cast saturates (negative and NaN to 0), which a Cortex-M4F's `vcvt` does by itself,
-    // and truncates, which is floor for v ≥ 0: no range checks around it.
-    (v as u32).min(255) as u8
+    // The cast saturates (NaN to 0), which a Cortex-M4F's `vcvt` does by itself, and truncates,
+    // which is floor for v ≥ 0; the clamp is one `usat` there.
+    (v as i32).clamp(0, 255) as u8
 }
 
 /// The sRGB transfer curve on [0, 1]. Out of line: one copy for the three channels.
