@@ -702,13 +702,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         _ => GROUPS - 1,
                     }
                 });
+                if let Some(gr) = groups.get_mut(g) {
+                    if gr.sphere == NONE {
+                        gr.sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
+                    }
+                }
                 last = (sphere, g);
                 g
             };
             if let Some(gr) = groups.get_mut(g) {
-                if gr.sphere == NONE {
-                    gr.sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
-                }
                 // Comparisons, not `f32::min`/`max` (calls to `fminf`/`fmaxf` without an FPU
                 // instruction for them); a NaN coordinate is skipped as `min`/`max` skip it.
                 let (lo, hi) = (&mut gr.lo, &mut gr.hi);
