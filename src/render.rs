@@ -787,6 +787,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let spheres = self.scene.spheres();
                 let mut full = false;
                 let mut consider = |s: u16| {
+                    // Not a group's own sphere: the shadow test skips the hit's sphere among
+                    // its candidates (it finds the ray's exit from it analytically), so listing
+                    // it would only cost a skip per pixel. `REST` is no sphere index (`FITS`).
+                    if s == group.sphere {
+                        return;
+                    }
                     if let Some(sphere) = spheres.get(s as usize) {
                         if may_block(light, sphere.center, sphere.radius, q, rho)
                             && cull.pool.push(s).is_err()
