@@ -728,7 +728,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
             }
         };
-        if self.samples == 1 {
+        if self.samples == 1 && cull.span.is_empty() {
+            // No sphere's box meets the span (the sky above the scene): every ray misses, and
+            // none needs building.
+            cull.hit_s.fill(NONE);
+            cull.stored = true;
+        } else if self.samples == 1 {
             for (k, i) in (i0..i1).enumerate() {
                 let ray = self.camera.view_ray(i, j, 0, 0, 1);
                 let h = self.primary_among(&ray, i, &cull.span);
