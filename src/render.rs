@@ -164,6 +164,8 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     sweeps: [Sweep<S>; L],
     /// Shadows on and at least one light: the only case that casts shadow rays.
     shadow_rays: bool,
+    /// The pixel of a primary ray that hits nothing: the same for every such ray.
+    miss: Rgb888,
 }
 
 /// Sphere indices: a row's, a span's or a light's candidates.
@@ -223,7 +225,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             Some(light) if scene.shadows() => Sweep::new(light, scene.spheres(), axes.0, axes.1),
             _ => Sweep::empty(),
         });
-        Ok(Frame {
+        let mut frame = Frame {
             scene,
             camera,
             samples: options.samples as u32,
@@ -233,7 +235,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             lights,
             sweeps,
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),
-        })
+            miss: Rgb888::new(0, 0, 0),
+        };
+        // A miss shows the background, whatever its ray: one pixel for all of them.
+        let nowhere = Ray::new(camera.eye(), Vec3::ZERO);
+        frame.miss = frame.encode(frame.shade_from(&nowhere, None, None));
+        Ok(frame)
     }
 
     /// Image width in pixels.
@@ -541,18 +548,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let shadow = if cull.culled { Some(&*cull) } else { None };
         let c = if cull.stored {
             let k = (i - cull.span_start) as usize;
-            let (ray, first) = match cull.hit(k) {
-                Some((t, s)) => {
-                    let ray = match cull.hit_d.get(k) {
-                        Some(&dir) => Ray::new(self.camera.eye(), dir),
-                        None => self.camera.view_ray(i, j, 0, 0, 1),
-                    };
-                    // The hit record from (t, sphere): `make_hit` is a pure function of them.
-                    (ray, self.eye_hit(&ray, t, s as usize))
-                }
-                // A miss shows the background, whatever its ray: no view ray to build.
-                None => (Ray::new(self.camera.eye(), Vec3::ZERO), None),
+            // A miss: the pixel `Frame::new` shaded for all of them (gather built no ray).
+            let Some((t, s)) = cull.hit(k) else {
+                return self.miss;
             };
+            let ray = match cull.hit_d.get(k) {
+                Some(&dir) => Ray::new(self.camera.eye(), dir),
+                None => self.camera.view_ray(i, j, 0, 0, 1),
+            };
+            // The hit record from (t, sphere): `make_hit` is a pure function of them.
+            let first = self.eye_hit(&ray, t, s as usize);
             self.shade_from(&ray, first, shadow)
         } else {
             self.average(i, j, |ray| {
