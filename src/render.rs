@@ -164,8 +164,6 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     sweeps: [Sweep<S>; L],
     /// Shadows on and at least one light: the only case that casts shadow rays.
     shadow_rays: bool,
-    /// The pixel of a primary ray that hits nothing: the same for every such ray.
-    miss: Rgb888,
 }
 
 /// Sphere indices: a row's, a span's or a light's candidates.
@@ -225,7 +223,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             Some(light) if scene.shadows() => Sweep::new(light, scene.spheres(), axes.0, axes.1),
             _ => Sweep::empty(),
         });
-        let mut frame = Frame {
+        Ok(Frame {
             scene,
             camera,
             samples: options.samples as u32,
@@ -235,12 +233,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             lights,
             sweeps,
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),
-            miss: Rgb888::new(0, 0, 0),
-        };
-        // A miss shows the background, whatever its ray: one pixel for all of them.
-        let nowhere = Ray::new(camera.eye(), Vec3::ZERO);
-        frame.miss = frame.encode(frame.shade_from(&nowhere, None, None));
-        Ok(frame)
+        })
     }
 
     /// Image width in pixels.
@@ -531,6 +524,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
         }
         cull.span_end = 0;
+        // A miss shows the background, whatever its ray: one pixel for all of them. Shaded
+        // here, on the render path's stack, rather than in `Frame::new` (set-up's).
+        let nowhere = Ray::new(self.camera.eye(), Vec3::ZERO);
+        cull.miss = self.encode(self.shade_from(&nowhere, None, None));
     }
 
     /// The pixel `(i, j)` of row `j`, pixels taken in order from `i = 0` (which starts the
@@ -548,9 +545,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let shadow = if cull.culled { Some(&*cull) } else { None };
         let c = if cull.stored {
             let k = (i - cull.span_start) as usize;
-            // A miss: the pixel `Frame::new` shaded for all of them (gather built no ray).
+            // A miss: the pixel `start_row` shaded for all of them (gather built no ray).
             let Some((t, s)) = cull.hit(k) else {
-                return self.miss;
+                return cull.miss;
             };
             let ray = match cull.hit_d.get(k) {
                 Some(&dir) => Ray::new(self.camera.eye(), dir),
@@ -1102,6 +1099,8 @@ struct Cull<const S: usize, const L: usize> {
     hit_t: [f32; SPAN],
     hit_s: [u16; SPAN],
     hit_d: [Vec3; DIRS],
+    /// The pixel of every primary ray that hits nothing.
+    miss: Rgb888,
 }
 
 impl<const S: usize, const L: usize> Cull<S, L> {
@@ -1120,6 +1119,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             hit_t: [0.0; SPAN],
             hit_s: [0; SPAN],
             hit_d: [Vec3::ZERO; DIRS],
+            miss: Rgb888::new(0, 0, 0),
         }
     }
 
