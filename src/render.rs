@@ -17,8 +17,10 @@
 //!    each group bounded by a ball; for each group and light, only the spheres that can meet a
 //!    shadow ray from that ball are kept (for a point light: the cone hull of the light and the
 //!    ball; for a directional light: the ball swept along the light), found in the light's
-//!    sorted band; shadow rays stop at the first blocker;
-//! 3. the pixels are shaded with those lists.
+//!    sorted band (never a group's own sphere, which shadow rays leave analytically); shadow
+//!    rays stop at the first blocker;
+//! 3. the pixels are shaded with those lists, from the stored hits and ray directions; every
+//!    miss shows the background whatever its ray, so the row shades one miss for all.
 //!
 //! Every list is a superset of the spheres the full test could report, and the tests
 //! themselves are the brute-force ones, in the same order where order matters (the closest
