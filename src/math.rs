@@ -271,23 +271,21 @@ mod hw {
     ///
     /// Rust exposes no `vfp2` target feature on thumbv7em-none-eabihf (its FPU is
     /// single-precision only), so S registers cannot be asm operands: the value travels through
-    /// core registers and `s0` is saved and restored by hand instead of being declared clobbered.
+    /// core registers, and `s0` is declared clobbered (a clobber needs no operand type), which
+    /// lets the compiler keep nothing there instead of saving and restoring it in the block.
     #[inline(always)]
     pub fn vsqrt(x: f32) -> f32 {
         let bits: u32;
         // SAFETY: the eabihf ABI guarantees an enabled FPU whenever this code runs. The block
-        // touches no memory and no stack, and leaves every register it borrows (`s0`, `tmp`)
-        // as it found it or as declared.
+        // touches no memory and no stack, and writes only `r` and the declared clobber `s0`.
         unsafe {
             core::arch::asm!(
-                "vmov {tmp}, s0",
                 "vmov s0, {x}",
                 "vsqrt.f32 s0, s0",
                 "vmov {r}, s0",
-                "vmov s0, {tmp}",
                 x = in(reg) x.to_bits(),
                 r = lateout(reg) bits,
-                tmp = out(reg) _,
+                out("s0") _,
                 options(pure, nomem, nostack, preserves_flags),
             );
         }
@@ -326,15 +324,24 @@ pub fn spec_pow(x: f32, s: f32) -> f32 {
     if n as f32 != s || n > 1 << 16 {
         return libm::powf(x, s);
     }
-    let (mut base, mut e, mut acc) = (x, n, 1.0f32);
-    loop {
+    if n == 0 {
+        return 1.0;
+    }
+    // Right-to-left binary powering; the lowest set bit's power starts the product (the same
+    // bits as 1 · x^(2^k)), so whole powers of two cost their squarings only.
+    let (mut base, mut e) = (x, n);
+    while e & 1 == 0 {
+        base *= base;
+        e >>= 1;
+    }
+    let mut acc = base;
+    e >>= 1;
+    while e != 0 {
+        base *= base;
         if e & 1 == 1 {
             acc *= base;
         }
         e >>= 1;
-        if e == 0 {
-            return acc;
-        }
-        base *= base;
     }
+    acc
 }

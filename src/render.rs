@@ -17,8 +17,10 @@
 //!    each group bounded by a ball; for each group and light, only the spheres that can meet a
 //!    shadow ray from that ball are kept (for a point light: the cone hull of the light and the
 //!    ball; for a directional light: the ball swept along the light), found in the light's
-//!    sorted band; shadow rays stop at the first blocker;
-//! 3. the pixels are shaded with those lists.
+//!    sorted band (never a group's own sphere, which shadow rays leave analytically); shadow
+//!    rays stop at the first blocker;
+//! 3. the pixels are shaded with those lists, from the stored hits and ray directions; every
+//!    miss shows the background whatever its ray, so the row shades one miss for all.
 //!
 //! Every list is a superset of the spheres the full test could report, and the tests
 //! themselves are the brute-force ones, in the same order where order matters (the closest
@@ -90,21 +92,26 @@ impl Default for RenderOptions {
 /// ```
 #[inline]
 pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
-    let c = if c > 0.0 {
-        if c < 1.0 {
-            c
-        } else {
-            1.0
+    let v = match encoding {
+        // Not clamped first: 255c + 0.5 is monotone in c, so a c ≥ 1 gives ≥ 255.5 and a
+        // c ≤ 0 at most 0.5, which the cast below maps to 255 and 0 as the clamp would.
+        Encoding::Linear => 255.0 * c + 0.5,
+        Encoding::Srgb => {
+            let c = if c > 0.0 {
+                if c < 1.0 {
+                    c
+                } else {
+                    1.0
+                }
+            } else {
+                0.0
+            };
+            255.0 * srgb(c) + 0.5
         }
-    } else {
-        0.0
     };
-    let e = match encoding {
-        Encoding::Linear => c,
-        Encoding::Srgb => srgb(c),
-    };
-    // 0 ≤ 255e + 0.5 < 256, so truncation is floor and the cast cannot wrap.
-    (255.0 * e + 0.5) as u8
+    // The cast saturates (NaN to 0), which a Cortex-M4F's `vcvt` does by itself, and truncates,
+    // which is floor for v ≥ 0; the clamp is one `usat` there.
+    (v as i32).clamp(0, 255) as u8
 }
 
 /// The sRGB transfer curve on [0, 1]. Out of line: one copy for the three channels.
@@ -351,8 +358,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let scene = self.scene;
         let mut primary = true;
         follow(scene, ray, first, |hit, ray| {
+            // The primary hit's group is found once, for all lights.
             let lists = if core::mem::replace(&mut primary, false) {
-                shadow
+                shadow.and_then(|c| c.lists(hit.sphere))
             } else {
                 None
             };
@@ -361,7 +369,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     let cs = self.light_consts(i, light);
                     let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
                     // One iterator type for both cases: one copy of the shadow tests.
-                    let cands = lists.and_then(|l| l.light(hit.sphere, i));
+                    let cands = lists.and_then(|l| l.light(i));
                     let n = cands.map_or(scene.spheres().len(), |c| c.len());
                     let pick = move |k: usize| match cands {
                         // `k < c.len()`; an index past the scene would test nothing.
@@ -516,6 +524,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
         }
         cull.span_end = 0;
+        // A miss shows the background, whatever its ray: one pixel for all of them. Shaded
+        // here, on the render path's stack, rather than in `Frame::new` (set-up's).
+        let nowhere = Ray::new(self.camera.eye(), Vec3::ZERO);
+        cull.miss = self.encode(self.shade_from(&nowhere, None, None));
     }
 
     /// The pixel `(i, j)` of row `j`, pixels taken in order from `i = 0` (which starts the
@@ -533,11 +545,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let shadow = if cull.culled { Some(&*cull) } else { None };
         let c = if cull.stored {
             let k = (i - cull.span_start) as usize;
-            let ray = self.camera.view_ray(i, j, 0, 0, 1);
+            // A miss: the pixel `start_row` shaded for all of them (gather built no ray).
+            let Some((t, s)) = cull.hit(k) else {
+                return cull.miss;
+            };
+            let ray = match cull.hit_d.get(k) {
+                Some(&dir) => Ray::new(self.camera.eye(), dir),
+                None => self.camera.view_ray(i, j, 0, 0, 1),
+            };
             // The hit record from (t, sphere): `make_hit` is a pure function of them.
-            let first = cull
-                .hit(k)
-                .and_then(|(t, s)| self.eye_hit(&ray, t, s as usize));
+            let first = self.eye_hit(&ray, t, s as usize);
             self.shade_from(&ray, first, shadow)
         } else {
             self.average(i, j, |ray| {
@@ -672,19 +689,30 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // and the box of each group's points.
         let spheres = self.scene.spheres();
         let mut groups = [Group::EMPTY; GROUPS];
+        // The group of the previous hit's sphere: a sphere keeps its group once it has one,
+        // and neighbouring pixels mostly hit the same sphere.
+        let mut last = (usize::MAX, 0);
         let mut extend = |sphere: usize, p: Vec3| {
-            let g = group_of(&groups, sphere).unwrap_or_else(|| {
-                // A new group while there is room; the last one takes every other sphere.
-                let free = groups.iter().position(|g| g.sphere == NONE);
-                match free {
-                    Some(k) if k + 1 < GROUPS => k,
-                    _ => GROUPS - 1,
+            let g = if sphere == last.0 {
+                last.1
+            } else {
+                let g = group_of(&groups, sphere).unwrap_or_else(|| {
+                    // A new group while there is room; the last one takes every other sphere.
+                    let free = groups.iter().position(|g| g.sphere == NONE);
+                    match free {
+                        Some(k) if k + 1 < GROUPS => k,
+                        _ => GROUPS - 1,
+                    }
+                });
+                if let Some(gr) = groups.get_mut(g) {
+                    if gr.sphere == NONE {
+                        gr.sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
+                    }
                 }
-            });
+                last = (sphere, g);
+                g
+            };
             if let Some(gr) = groups.get_mut(g) {
-                if gr.sphere == NONE {
-                    gr.sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
-                }
                 // Comparisons, not `f32::min`/`max` (calls to `fminf`/`fmaxf` without an FPU
                 // instruction for them); a NaN coordinate is skipped as `min`/`max` skip it.
                 let (lo, hi) = (&mut gr.lo, &mut gr.hi);
@@ -702,7 +730,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
             }
         };
-        if self.samples == 1 {
+        if self.samples == 1 && cull.span.is_empty() {
+            // No sphere's box meets the span (the sky above the scene): every ray misses, and
+            // none needs building.
+            cull.hit_s.fill(NONE);
+            cull.stored = true;
+        } else if self.samples == 1 {
             for (k, i) in (i0..i1).enumerate() {
                 let ray = self.camera.view_ray(i, j, 0, 0, 1);
                 let h = self.primary_among(&ray, i, &cull.span);
@@ -710,6 +743,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     // The point of `make_hit`, without the rest of the hit record.
                     if let (Some(k), Some(sphere)) = (self.eye.get(s), spheres.get(s)) {
                         extend(s, hit_point(&ray, t, k.f, sphere).0);
+                    }
+                    // Only a hit is shaded with its ray.
+                    if let Some(d) = cull.hit_d.get_mut(k) {
+                        *d = ray.dir;
                     }
                 }
                 if let (Some(t), Some(s)) = (cull.hit_t.get_mut(k), cull.hit_s.get_mut(k)) {
@@ -757,6 +794,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let spheres = self.scene.spheres();
                 let mut full = false;
                 let mut consider = |s: u16| {
+                    // Not a group's own sphere: the shadow test skips the hit's sphere among
+                    // its candidates (it finds the ray's exit from it analytically), so listing
+                    // it would only cost a skip per pixel. `REST` is no sphere index (`FITS`).
+                    if s == group.sphere {
+                        return;
+                    }
                     if let Some(sphere) = spheres.get(s as usize) {
                         if may_block(light, sphere.center, sphere.radius, q, rho)
                             && cull.pool.push(s).is_err()
@@ -806,6 +849,14 @@ const GROUPS: usize = 4;
 const NONE: u16 = u16::MAX;
 /// The group of every other sphere.
 const REST: u16 = u16::MAX - 1;
+/// Span pixels whose view ray direction is kept for shading: all, which spares a second square
+/// root and three divides per hit, except on soft-float Arm (Cortex-M0), whose deeper render
+/// stack has no room for the 12 bytes a pixel (it rebuilds the ray instead).
+const DIRS: usize = if cfg!(all(target_arch = "arm", not(target_abi = "eabihf"))) {
+    0
+} else {
+    SPAN
+};
 /// A light's pool range when it must test every sphere (empty as `a..b`: `a > b`).
 const ALL: (u16, u16) = (u16::MAX, 0);
 
@@ -1042,10 +1093,14 @@ struct Cull<const S: usize, const L: usize> {
     /// Shadow lists are valid for this span.
     culled: bool,
     /// `hit_t`, `hit_s` hold the span's primary hits (one sample per pixel) as `t` and sphere
-    /// (`NONE`: no hit): 6 bytes a pixel, for microcontroller stacks.
+    /// (`NONE`: no hit), and `hit_d` (see [`DIRS`]) the direction of each hit's view ray: 6 or
+    /// 18 bytes a pixel, for microcontroller stacks.
     stored: bool,
     hit_t: [f32; SPAN],
     hit_s: [u16; SPAN],
+    hit_d: [Vec3; DIRS],
+    /// The pixel of every primary ray that hits nothing.
+    miss: Rgb888,
 }
 
 impl<const S: usize, const L: usize> Cull<S, L> {
@@ -1063,6 +1118,8 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             // Zeros, which the compiler writes in place; a span writes them before use.
             hit_t: [0.0; SPAN],
             hit_s: [0; SPAN],
+            hit_d: [Vec3::ZERO; DIRS],
+            miss: Rgb888::new(0, 0, 0),
         }
     }
 
@@ -1075,10 +1132,9 @@ impl<const S: usize, const L: usize> Cull<S, L> {
         }
     }
 
-    /// The candidate blockers of light `i` for a primary hit on `sphere`, or `None` when it
-    /// must test every sphere.
+    /// The shadow lists of a primary hit on `sphere`: its group's pool range per light.
     #[inline]
-    fn light(&self, sphere: usize, i: usize) -> Option<&[u16]> {
+    fn lists(&self, sphere: usize) -> Option<Lists<'_, L>> {
         let mut g = None;
         for (k, &s) in self.groups.iter().enumerate() {
             if s as usize == sphere && s < REST {
@@ -1089,7 +1145,25 @@ impl<const S: usize, const L: usize> Cull<S, L> {
                 g = Some(k);
             }
         }
-        let (a, b) = self.ranges.get(g?)?.get(i).copied()?;
+        Some(Lists {
+            ranges: self.ranges.get(g?)?,
+            pool: &self.pool,
+        })
+    }
+}
+
+/// The shadow lists of one primary hit (see [`Cull::lists`]).
+#[derive(Debug, Clone, Copy)]
+struct Lists<'c, const L: usize> {
+    ranges: &'c [(u16, u16); L],
+    pool: &'c [u16],
+}
+
+impl<'c, const L: usize> Lists<'c, L> {
+    /// The candidate blockers of light `i`, or `None` when it must test every sphere.
+    #[inline]
+    fn light(self, i: usize) -> Option<&'c [u16]> {
+        let (a, b) = self.ranges.get(i).copied()?;
         // `ALL` has a > b: no slice.
         self.pool.get(a as usize..b as usize)
     }
