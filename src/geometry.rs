@@ -529,10 +529,23 @@ fn roots_f64(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
 /// ```
 #[inline]
 pub fn hit_point(ray: &Ray, t: f32, f: Vec3, sphere: &Sphere) -> (Vec3, Vec3) {
+    hit_point_within(ray, t, f, sphere, 256.0)
+}
+
+/// [`hit_point`] with f32 up to `√near2` radii away instead of 16: the renderer's choice per
+/// material (`scene::near2`), which a diffuse or dull sphere lets go much farther.
+#[inline]
+pub(crate) fn hit_point_within(
+    ray: &Ray,
+    t: f32,
+    f: Vec3,
+    sphere: &Sphere,
+    near2: f32,
+) -> (Vec3, Vec3) {
     let d = ray.dir;
     let r = sphere.radius;
     let ff = f.dot(f);
-    if ff <= 256.0 * (r * r) {
+    if ff <= near2 * (r * r) {
         return (ray.at(t), f + d * t);
     }
     hit_point_f64(ray.dir, t, f, sphere).unwrap_or((ray.at(t), f + d * t))

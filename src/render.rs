@@ -35,7 +35,7 @@ use embedded_graphics::pixelcolor::Rgb888;
 
 use crate::camera::Camera;
 use crate::error::Error;
-use crate::geometry::{hit_point, Prepared, Ray};
+use crate::geometry::{hit_point_within, Prepared, Ray};
 use crate::math::{powf, Color, Vec3};
 use crate::raster::{PixelBox, Screen, ETA};
 use crate::scene::{make_hit, Hit, Light, Scene};
@@ -298,7 +298,17 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         let (t, i, k) = best?;
         let sphere = self.scene.spheres().get(i)?;
-        Some(make_hit(ray, t, i, k.f, sphere, ray.origin, Vec3::ZERO))
+        let near2 = self.scene.near2(i);
+        Some(make_hit(
+            ray,
+            t,
+            i,
+            k.f,
+            sphere,
+            near2,
+            ray.origin,
+            Vec3::ZERO,
+        ))
     }
 
     /// The closest hit of the primary ray through column `i`, as `(t, sphere)`, against the
@@ -338,7 +348,17 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     fn eye_hit(&self, ray: &Ray, t: f32, s: usize) -> Option<Hit> {
         let k = self.eye.get(s)?;
         let sphere = self.scene.spheres().get(s)?;
-        Some(make_hit(ray, t, s, k.f, sphere, ray.origin, Vec3::ZERO))
+        let near2 = self.scene.near2(s);
+        Some(make_hit(
+            ray,
+            t,
+            s,
+            k.f,
+            sphere,
+            near2,
+            ray.origin,
+            Vec3::ZERO,
+        ))
     }
 
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).
@@ -742,7 +762,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 if let Some((t, s)) = h {
                     // The point of `make_hit`, without the rest of the hit record.
                     if let (Some(k), Some(sphere)) = (self.eye.get(s), spheres.get(s)) {
-                        extend(s, hit_point(&ray, t, k.f, sphere).0);
+                        let near2 = self.scene.near2(s);
+                        extend(s, hit_point_within(&ray, t, k.f, sphere, near2).0);
                     }
                     // Only a hit is shaded with its ray.
                     if let Some(d) = cull.hit_d.get_mut(k) {

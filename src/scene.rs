@@ -3,7 +3,7 @@
 //! Every value is checked when it is added, so the render path never meets an invalid scene.
 
 use crate::error::Error;
-use crate::geometry::{hit_point, Prepared, Ray, Sphere};
+use crate::geometry::{hit_point_within, Prepared, Ray, Sphere};
 use crate::math::{Color, Vec3};
 
 /// How a sphere reflects light.
@@ -162,6 +162,8 @@ impl Hit {
 pub struct Scene<const S: usize, const L: usize> {
     spheres: heapless::Vec<Sphere, S>,
     materials: heapless::Vec<Material, S>,
+    /// Per sphere, [`near2`] of its material.
+    near2: heapless::Vec<f32, S>,
     lights: heapless::Vec<Light, L>,
     ambient: Color,
     background: Color,
@@ -173,6 +175,33 @@ impl<const S: usize, const L: usize> Default for Scene<S, L> {
     fn default() -> Self {
         Self::new()
     }
+}
+
+/// [`near2`] at its smallest: f32 hit offsets within 16 radii.
+const NEAR2_MIN: f32 = 256.0;
+
+/// `(distance/radius)²` from the ray origin up to which `f + t·d` in f32 gives a hit offset
+/// accurate enough for material `m`; beyond it [`hit_point`](crate::geometry::hit_point)
+/// recomputes it in f64 (software on a Cortex-M, hundreds of instructions a hit).
+///
+/// The f32 offset is off by ~4ε·distance, which turns the normal by ~4ε·distance/radius: a
+/// diffuse term moves by that much, a highlight of shininess s by s times that. 2048/(1 + s)
+/// radii keep either under 1/8 of a level (for a light of intensity 1); never fewer than 16
+/// radii, and 16 for mirrors, whose rays go on and bounce.
+fn near2(m: &Material) -> f32 {
+    let k = if m.mirror != Color::ZERO {
+        16.0
+    } else if m.specular == Color::ZERO {
+        2048.0
+    } else {
+        let k = 2048.0 / (1.0 + m.shininess);
+        if k > 16.0 {
+            k
+        } else {
+            16.0
+        }
+    };
+    k * k
 }
 
 fn check_color(c: Color) -> Result<Color, Error> {
@@ -203,6 +232,7 @@ impl<const S: usize, const L: usize> Scene<S, L> {
         Scene {
             spheres: heapless::Vec::new(),
             materials: heapless::Vec::new(),
+            near2: heapless::Vec::new(),
             lights: heapless::Vec::new(),
             ambient: Color::ZERO,
             background: Color::ZERO,
@@ -234,8 +264,9 @@ impl<const S: usize, const L: usize> Scene<S, L> {
         self.spheres
             .push(sphere)
             .map_err(|_| Error::TooManySpheres)?;
-        // Both vectors have capacity S and grow together, so this push cannot fail.
+        // The vectors have capacity S and grow together, so these pushes cannot fail.
         let _ = self.materials.push(material);
+        let _ = self.near2.push(near2(&material));
         Ok(self.spheres.len() - 1)
     }
 
@@ -350,6 +381,13 @@ impl<const S: usize, const L: usize> Scene<S, L> {
         &self.materials
     }
 
+    /// Per sphere, the squared distance in radii up to which an f32 hit offset is good enough
+    /// for its material (see [`near2`]).
+    #[inline]
+    pub(crate) fn near2(&self, i: usize) -> f32 {
+        self.near2.get(i).copied().unwrap_or(NEAR2_MIN)
+    }
+
     /// The lights (directional ones with unit direction).
     ///
     /// ```
@@ -423,7 +461,19 @@ impl<const S: usize, const L: usize> Scene<S, L> {
                 best = Some((t, i, k));
             }
         }
-        best.map(|(t, i, k)| make_hit(ray, t, i, k.f, &self.spheres[i], ray.origin, Vec3::ZERO))
+        best.map(|(t, i, k)| {
+            let near2 = self.near2(i);
+            make_hit(
+                ray,
+                t,
+                i,
+                k.f,
+                &self.spheres[i],
+                near2,
+                ray.origin,
+                Vec3::ZERO,
+            )
+        })
     }
 }
 
@@ -432,18 +482,20 @@ impl<const S: usize, const L: usize> Scene<S, L> {
 /// [`Hit::anchor`]). Out of line: one copy for the renderer's and the shading's callers, which
 /// small flash prefers.
 #[inline(never)]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn make_hit(
     ray: &Ray,
     t: f32,
     i: usize,
     f: Vec3,
     sphere: &Sphere,
+    near2: f32,
     origin: Vec3,
     path: Vec3,
 ) -> Hit {
     // The offset from the centre is computed directly (see `hit_point`): unlike
     // `point − centre` it does not lose the low bits of a point far from the origin.
-    let (_, offset) = hit_point(ray, t, f, sphere);
+    let (_, offset) = hit_point_within(ray, t, f, sphere, near2);
     let outward = offset / sphere.radius;
     let path = path + ray.dir * t;
     // |offset| = r: the shorter vector by one comparison of squares.

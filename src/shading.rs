@@ -297,7 +297,7 @@ pub fn find_from<const S: usize, const L: usize>(
             best = Some((t, j, f, s));
         }
     }
-    best.map(|(t, j, f, s)| make_hit(ray, t, j, f, s, hit.anchor, hit.rel))
+    best.map(|(t, j, f, s)| make_hit(ray, t, j, f, s, scene.near2(j), hit.anchor, hit.rel))
 }
 
 /// The colour seen along a ray: the hit's local colour plus its mirror reflections, or the

@@ -75,6 +75,14 @@ fn tiny_spheres() {
     check("tiny_spheres", 0.35);
 }
 
+/// Spheres 60 to 1700 radii away whose hit offsets stay in f32 (dull and diffuse materials):
+/// not a pixel off by more than one level, none excused beyond the edges.
+#[test]
+fn mid_far_spheres() {
+    let a = check("mid_far_spheres", 0.5);
+    assert_eq!(a.over1, 0, "{a:?}");
+}
+
 #[test]
 fn ground_1e3() {
     check("ground_1e3", 0.5);
