@@ -285,13 +285,8 @@ pub fn find_from<const S: usize, const L: usize>(
         if j == from {
             continue;
         }
-        let found = match spheres.get(from) {
-            Some(_) => Prepared::leaving_hit(hit.anchor, hit.rel, s, ray.dir, T_EPS, tmax),
-            None => {
-                let k = Prepared::new(ray.origin, s);
-                k.hit(ray.dir, T_EPS, tmax).map(|t| (t, k.f))
-            }
-        };
+        // From `anchor + rel`, the hit point, whether or not `from` is a sphere of this scene.
+        let found = Prepared::leaving_hit(hit.anchor, hit.rel, s, ray.dir, T_EPS, tmax);
         if let Some((t, f)) = found {
             tmax = t;
             best = Some((t, j, f, s));
