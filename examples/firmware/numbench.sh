@@ -12,7 +12,7 @@ target=thumbv7em-none-eabihf
 
 command -v qemu-system-arm >/dev/null || { echo "error=qemu-system-arm not found" >&2; exit 3; }
 [ -d "$(rustc --print sysroot)/lib/rustlib/$target" ] ||
-  { echo "error=no $target target (rustup target add $target)" >&2; exit 3; }
+  { echo "error=no $target target: rustup target add $target" >&2; exit 3; }
 
 cargo build --quiet --release --target "$target" --bin numbench
 set +e
