@@ -898,7 +898,7 @@ fn main() {
         .map(|_| g.range(0.5, 1.0) as f32)
         .collect();
     println!("\n## Specular power x^s (x = n·h in [0.5, 1]; error in 8-bit levels at k_s I = 1)\n");
-    println!("| s | powf ns | squaring ns | Schlick ns | powf max levels | squaring max levels | Schlick max levels | Cortex-M4F instructions/test: powf / squaring (microray::math::spec_pow; this table's) / Schlick |");
+    println!("| s | powf ns | squaring ns | Schlick ns | powf max levels | squaring max levels | Schlick max levels | Cortex-M4F instructions/test: powf / microray::math::spec_pow (this table's squaring) / Schlick |");
     println!("|---:|---:|---:|---:|---:|---:|---:|---|");
     for s in [8u32, 32, 128, 1000, 5000] {
         let sf = s as f32;
