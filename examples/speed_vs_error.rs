@@ -7,14 +7,19 @@
 //! ray-sphere test (x, log) against the worst error of t in ulp on the hard ray sets (y, log).
 //! Times are medians over repeated, interleaved runs after a warm-up; the machine may be shared
 //! and noisy, so compare the ratios, which are measured in one run, not the absolute times.
-//! Instruction counts on a Cortex-M4F come from the firmware work and are not measured here.
+//! The "Cortex-M4F instructions/test" columns come from examples/firmware/numbench.sh, which
+//! counts the same variants (examples/common/variants.rs) in QEMU; without qemu-system-arm or
+//! the thumbv7em-none-eabihf target they say "not measured".
 
 // `!(x >= 0.0)` is deliberate, as in the library: NaN must fail.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 #[path = "../tests/common/mod.rs"]
 mod common;
+#[path = "common/variants.rs"]
+mod variants;
 
+use std::collections::HashMap;
 use std::hint::black_box;
 use std::ops::Add;
 use std::time::Instant;
@@ -23,127 +28,12 @@ use common::reference::reference_t;
 use common::rng::Rng;
 use microray::scene_file::{self, Desktop};
 use microray::{Frame, Prepared, Sphere, Vec3};
+use variants::*;
 
 // ---- the intersection variants ----------------------------------------------------------------
 
 /// An intersection: the first root t > 0 of a ray from `o` along `d`.
 type Isect = fn(Vec3, Vec3, &Sphere) -> Option<f32>;
-
-/// The lecture's formula: `(−b ± √(b² − 4ac)) / 2a` with `b = 2 f·d`.
-#[inline(never)]
-fn lecture(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
-    let f = o - s.center;
-    let a = d.dot(d);
-    let b = 2.0 * f.dot(d);
-    let c = f.dot(f) - s.radius * s.radius;
-    let disc = b * b - 4.0 * a * c;
-    if !(disc >= 0.0) {
-        return None;
-    }
-    let sq = libm::sqrtf(disc);
-    let t0 = (-b - sq) / (2.0 * a);
-    if t0 > 0.0 {
-        return Some(t0);
-    }
-    let t1 = (-b + sq) / (2.0 * a);
-    (t1 > 0.0).then_some(t1)
-}
-
-/// The geometric form: `t_m ± Δt` with `t_m` the projection of the centre on the ray and
-/// `Δt² = r² − (|f|² − t_m²)` (unit `d`).
-#[inline(never)]
-fn geometric(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
-    let f = s.center - o;
-    let tm = f.dot(d);
-    let h2 = f.dot(f) - tm * tm;
-    let dt2 = s.radius * s.radius - h2;
-    if !(dt2 >= 0.0) {
-        return None;
-    }
-    let dt = libm::sqrtf(dt2);
-    let t0 = tm - dt;
-    if t0 > 0.0 {
-        return Some(t0);
-    }
-    let t1 = tm + dt;
-    (t1 > 0.0).then_some(t1)
-}
-
-/// Stable roots `c/q`, `q/a` with the Hearn–Baker discriminant, everything in f32 (no
-/// compensation of `c`); `sqrt` is the square root to use.
-#[inline(always)]
-fn hearn_baker_with(o: Vec3, d: Vec3, s: &Sphere, sqrt: impl Fn(f32) -> f32) -> Option<f32> {
-    let f = o - s.center;
-    let r = s.radius;
-    let a = d.dot(d);
-    let b = f.dot(d);
-    let c = f.dot(f) - r * r;
-    let l = f - d * (b / a);
-    let disc = a * (r * r - l.dot(l));
-    if !(disc >= 0.0) {
-        return None;
-    }
-    let sq = sqrt(disc);
-    let q = if b > 0.0 { -(b + sq) } else { sq - b };
-    let (t0, t1) = (c / q, q / a);
-    let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-    if t0 > 0.0 {
-        Some(t0)
-    } else {
-        (t1 > 0.0).then_some(t1)
-    }
-}
-
-#[inline(never)]
-fn hearn_baker(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
-    hearn_baker_with(o, d, s, libm::sqrtf)
-}
-
-/// microray's default for a ray of its own origin (secondary rays): `Prepared::new` + `hit`.
-#[inline(never)]
-fn default_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
-    Prepared::new(o, s).hit(d, f32::MIN_POSITIVE, f32::INFINITY)
-}
-
-/// As above with `c` always through f64 (`Prepared::exact` per ray).
-#[inline(never)]
-fn exact_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
-    Prepared::exact(o, s).hit(d, f32::MIN_POSITIVE, f32::INFINITY)
-}
-
-// ---- square roots ------------------------------------------------------------------------------
-
-/// The "fast inverse square root" bit trick with `n` Newton steps, times x.
-#[inline(always)]
-fn rsqrt_newton(x: f32, n: u32) -> f32 {
-    let mut y = f32::from_bits(0x5f37_59df - (x.to_bits() >> 1));
-    for _ in 0..n {
-        y *= 1.5 - 0.5 * x * y * y;
-    }
-    x * y
-}
-
-// ---- specular powers ---------------------------------------------------------------------------
-
-/// `x^n` by repeated squaring for an integer exponent.
-#[inline(always)]
-fn pow_squaring(x: f32, n: u32) -> f32 {
-    let (mut base, mut n, mut acc) = (x, n, 1.0f32);
-    while n > 0 {
-        if n & 1 == 1 {
-            acc *= base;
-        }
-        base *= base;
-        n >>= 1;
-    }
-    acc
-}
-
-/// Schlick's rational approximation of `x^s`.
-#[inline(always)]
-fn pow_schlick(x: f32, s: f32) -> f32 {
-    x / (s - s * x + x)
-}
 
 // ---- ray sets -----------------------------------------------------------------------------------
 
@@ -464,6 +354,61 @@ impl Plain<'_> {
     }
 }
 
+// ---- Cortex-M4F instruction counts ------------------------------------------------------------
+
+/// The `key=value` lines of examples/firmware/numbench.sh, or why there are none.
+struct M4f(Result<HashMap<String, String>, String>);
+
+impl M4f {
+    /// Runs numbench.sh (it builds the firmware and runs it in QEMU) if QEMU is installed.
+    fn measure() -> M4f {
+        let qemu = std::process::Command::new("qemu-system-arm")
+            .arg("--version")
+            .output();
+        if !qemu.is_ok_and(|o| o.status.success()) {
+            return M4f(Err("no qemu-system-arm".into()));
+        }
+        let script = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/firmware/numbench.sh");
+        eprintln!("counting Cortex-M4F instructions: {script}");
+        let out = match std::process::Command::new("bash").arg(script).output() {
+            Ok(out) => out,
+            Err(e) => return M4f(Err(format!("{script}: {e}"))),
+        };
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let keys: HashMap<String, String> = stdout
+            .lines()
+            .filter_map(|l| l.split_once('='))
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        if out.status.success() && keys.get("ok").is_some_and(|v| v == "1") {
+            return M4f(Ok(keys));
+        }
+        // The script's `error=` line (a missing target, a failed run), else its exit status.
+        let why = stderr
+            .lines()
+            .chain(stdout.lines())
+            .find_map(|l| l.strip_prefix("error="))
+            .map_or_else(
+                || format!("numbench.sh failed: {}", out.status),
+                String::from,
+            );
+        eprint!("{stderr}");
+        M4f(Err(why))
+    }
+
+    /// The instructions per test under `key`, or "not measured (why)"; never a made-up number.
+    fn cell(&self, key: &str) -> String {
+        match &self.0 {
+            Ok(keys) => keys
+                .get(key)
+                .cloned()
+                .unwrap_or_else(|| format!("not measured (numbench printed no {key})")),
+            Err(why) => format!("not measured ({why})"),
+        }
+    }
+}
+
 // ---- the plot -----------------------------------------------------------------------------------
 
 /// Points (x = ns, y = max ulp, colour) on log-log axes, a grey grid line at every power of
@@ -607,6 +552,7 @@ fn plot(points: &[(f64, f64, [u8; 3])], path: &str) {
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let runs = if quick { 5 } else { 31 };
+    let m4f = M4f::measure();
 
     // 1. Intersection formulas.
     let cases = hard_rays(if quick { 20_000 } else { 200_000 });
@@ -727,13 +673,23 @@ fn main() {
     let frame_errors = errors(&cases, |o, d, s| {
         Prepared::exact(o, s).hit(d, f32::MIN_POSITIVE, f32::INFINITY)
     });
-    let rows: Vec<(&str, [u8; 3], &str, Errors, f64)> = vec![
+    // name, plot colour and its name, errors, ns/test, numbench key
+    type Row = (
+        &'static str,
+        [u8; 3],
+        &'static str,
+        Errors,
+        f64,
+        &'static str,
+    );
+    let rows: Vec<Row> = vec![
         (
             "lecture quadratic (-b ± √(b²-4ac))/2a",
             [220, 40, 40],
             "red",
             errors(&cases, lecture),
             ns[0],
+            "primary_lecture",
         ),
         (
             "geometric t_m ± Δt",
@@ -741,6 +697,7 @@ fn main() {
             "orange",
             errors(&cases, geometric),
             ns[1],
+            "primary_geometric",
         ),
         (
             "stable roots + Hearn-Baker, f32 c",
@@ -748,6 +705,7 @@ fn main() {
             "blue",
             errors(&cases, hearn_baker),
             ns[2],
+            "primary_hearn_baker",
         ),
         (
             "default, per ray (secondary rays)",
@@ -755,6 +713,7 @@ fn main() {
             "green",
             errors(&cases, default_per_ray),
             ns[3],
+            "primary_default_per_ray",
         ),
         (
             "default, per-frame constants (primary)",
@@ -762,6 +721,7 @@ fn main() {
             "dark green",
             frame_errors,
             ns[4],
+            "primary_frame_constants",
         ),
         (
             "alternative: c always in f64, per ray",
@@ -769,40 +729,67 @@ fn main() {
             "purple",
             errors(&cases, exact_per_ray),
             ns[5],
+            "primary_exact_per_ray",
         ),
     ];
     println!("## Ray-sphere intersection\n");
     println!("{} hard rays ({} far/small up to distance/radius 1e5, the rest grounds of radius 1e3..1e6 seen from 1 above); ulp statistics on hits that do not graze.\n", cases.len(), cases.iter().filter(|c| !c.ground).count());
-    println!("| variant | plot marker | ns/test (median) | × lecture | max ulp, far/small | max ulp, ground | median ulp | ground max rel. error | false hits | misses |");
-    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
-    for (name, _, colour, e, t) in &rows {
+    println!("| variant | plot marker | ns/test (median) | × lecture | max ulp, far/small | max ulp, ground | median ulp | ground max rel. error | false hits | misses | Cortex-M4F instructions/test |");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for (name, _, colour, e, t, key) in &rows {
         println!(
-            "| {name} | {colour} | {t:.2} | {:.2} | {:.3} | {:.3} | {:.2} | {:.1e} | {} | {} |",
+            "| {name} | {colour} | {t:.2} | {:.2} | {:.3} | {:.3} | {:.2} | {:.1e} | {} | {} | {} |",
             t / ns[0],
             e.max_ulp_far,
             e.max_ulp_ground,
             e.median_ulp,
             e.max_rel_ground,
             e.false_hits,
-            e.misses
+            e.misses,
+            m4f.cell(key)
+        );
+    }
+    if m4f.0.is_ok() {
+        let first = |key: &str, per: usize| m4f.cell(key).parse::<usize>().map_or(0, |n| n / per);
+        println!(
+            "\nCortex-M4F instructions/test: counted by examples/firmware/numbench.sh in QEMU (mps2-an386, -icount), instructions not cycles (vdiv.f32 and vsqrt.f32 are one instruction of 14 cycles), on the first {} directions of this timing set and the first {} rays of the shadow-like one below, including the call of a variant that is not inlined, not the loop.",
+            first("primary_tests", spheres.len()),
+            first("shadow_tests", lit_spheres.len() - 1)
         );
     }
     println!("\nThe same per-ray variants timed on shadow-like rays of an ordinary scene (origins on the spheres of tests/data/lit.toml, directions away from the surface, the sphere left not tested; per-frame constants do not apply to rays of their own origin):\n");
-    println!("| variant | ns/test (median) | × lecture |");
-    println!("|---|---:|---:|");
-    for (k, name) in [
-        "lecture quadratic",
-        "geometric t_m ± Δt",
-        "stable roots + Hearn-Baker, f32 c",
-        "default, per ray (Prepared::new + hit)",
-        "alternative: c always in f64, per ray",
-        "default as mirror rays call it (Prepared::leaving_hit)",
-        "default as shadow rays call it (Prepared::leaving_blocks: any hit, no root)",
+    println!("| variant | ns/test (median) | × lecture | Cortex-M4F instructions/test |");
+    println!("|---|---:|---:|---:|");
+    for (k, (name, key)) in [
+        ("lecture quadratic", "shadow_lecture"),
+        ("geometric t_m ± Δt", "shadow_geometric"),
+        ("stable roots + Hearn-Baker, f32 c", "shadow_hearn_baker"),
+        (
+            "default, per ray (Prepared::new + hit)",
+            "shadow_default_per_ray",
+        ),
+        (
+            "alternative: c always in f64, per ray",
+            "shadow_exact_per_ray",
+        ),
+        (
+            "default as mirror rays call it (Prepared::leaving_hit)",
+            "shadow_leaving_hit",
+        ),
+        (
+            "default as shadow rays call it (Prepared::leaving_blocks: any hit, no root)",
+            "shadow_leaving_blocks",
+        ),
     ]
     .iter()
     .enumerate()
     {
-        println!("| {name} | {:.2} | {:.2} |", ns2[k], ns2[k] / ns2[0]);
+        println!(
+            "| {name} | {:.2} | {:.2} | {} |",
+            ns2[k],
+            ns2[k] / ns2[0],
+            m4f.cell(key)
+        );
     }
     // How often the per-ray default computes c through f64 (software on a Cortex-M4F): the
     // tests Prepared::new and Prepared::leaving_hit make.
@@ -878,19 +865,41 @@ fn main() {
     let t_err =
         |f: fn(f32) -> f32| errors(&cases, move |o, d, s| hearn_baker_with(o, d, s, f)).max_ulp_far;
     println!("\n## Square root\n");
-    println!("| sqrt | ns/call (host) | × libm | max ulp | max ulp of t, far/small (stable roots + HB) | Cortex-M4F instructions |");
+    println!("| sqrt | ns/call (host) | × libm | max ulp | max ulp of t, far/small (stable roots + HB) | Cortex-M4F instructions/test |");
     println!("|---|---:|---:|---:|---:|---|");
-    println!("| libm::sqrtf (host; microray uses vsqrt.f32 on M4F, same bits) | {:.2} | 1.00 | {:.2} | {:.3e} | from firmware work |", sq_ns[0], sqrt_err(&libm::sqrtf), t_err(libm::sqrtf));
-    println!("| bit-trick rsqrt + 1 Newton step, × x | {:.2} | {:.2} | {:.0} | {:.3e} | from firmware work |", sq_ns[1], sq_ns[1] / sq_ns[0], sqrt_err(&|x| rsqrt_newton(x, 1)), t_err(|x| rsqrt_newton(x, 1)));
-    println!("| bit-trick rsqrt + 2 Newton steps, × x | {:.2} | {:.2} | {:.0} | {:.3e} | from firmware work |", sq_ns[2], sq_ns[2] / sq_ns[0], sqrt_err(&|x| rsqrt_newton(x, 2)), t_err(|x| rsqrt_newton(x, 2)));
+    let m4f_sqrt = match &m4f.0 {
+        Ok(_) => format!(
+            "{} (libm::sqrtf); {} (microray::math::sqrt)",
+            m4f.cell("sqrt_libm_sqrtf"),
+            m4f.cell("sqrt_math_sqrt")
+        ),
+        Err(_) => m4f.cell("sqrt_libm_sqrtf"),
+    };
+    println!("| libm::sqrtf (host; microray uses vsqrt.f32 on M4F, same bits) | {:.2} | 1.00 | {:.2} | {:.3e} | {m4f_sqrt} |", sq_ns[0], sqrt_err(&libm::sqrtf), t_err(libm::sqrtf));
+    println!(
+        "| bit-trick rsqrt + 1 Newton step, × x | {:.2} | {:.2} | {:.0} | {:.3e} | {} |",
+        sq_ns[1],
+        sq_ns[1] / sq_ns[0],
+        sqrt_err(&|x| rsqrt_newton(x, 1)),
+        t_err(|x| rsqrt_newton(x, 1)),
+        m4f.cell("sqrt_rsqrt_newton1")
+    );
+    println!(
+        "| bit-trick rsqrt + 2 Newton steps, × x | {:.2} | {:.2} | {:.0} | {:.3e} | {} |",
+        sq_ns[2],
+        sq_ns[2] / sq_ns[0],
+        sqrt_err(&|x| rsqrt_newton(x, 2)),
+        t_err(|x| rsqrt_newton(x, 2)),
+        m4f.cell("sqrt_rsqrt_newton2")
+    );
 
     // 3. Specular powers.
     let xs: Vec<f32> = (0..if quick { 10_000 } else { 100_000 })
         .map(|_| g.range(0.5, 1.0) as f32)
         .collect();
     println!("\n## Specular power x^s (x = n·h in [0.5, 1]; error in 8-bit levels at k_s I = 1)\n");
-    println!("| s | powf ns | squaring ns | Schlick ns | powf max levels | squaring max levels | Schlick max levels |");
-    println!("|---:|---:|---:|---:|---:|---:|---:|");
+    println!("| s | powf ns | squaring ns | Schlick ns | powf max levels | squaring max levels | Schlick max levels | Cortex-M4F instructions/test: powf / microray::math::spec_pow (this table's squaring) / Schlick |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---|");
     for s in [8u32, 32, 128, 1000, 5000] {
         let sf = s as f32;
         let mut p1 = || {
@@ -914,8 +923,18 @@ fn main() {
                 .map(|&x| 255.0 * (f(x) as f64 - (x as f64).powf(s as f64)).abs())
                 .fold(0.0, f64::max)
         };
+        let m4f_pow = match &m4f.0 {
+            Ok(_) => format!(
+                "{} / {} ({}) / {}",
+                m4f.cell(&format!("pow_s{s}_powf")),
+                m4f.cell(&format!("pow_s{s}_spec_pow")),
+                m4f.cell(&format!("pow_s{s}_squaring")),
+                m4f.cell(&format!("pow_s{s}_schlick"))
+            ),
+            Err(_) => m4f.cell("pow_args"),
+        };
         println!(
-            "| {s} | {:.2} | {:.2} | {:.2} | {:.4} | {:.4} | {:.1} |",
+            "| {s} | {:.2} | {:.2} | {:.2} | {:.4} | {:.4} | {:.1} | {m4f_pow} |",
             t[0],
             t[1],
             t[2],

@@ -1,0 +1,127 @@
+//! The numerical variants that examples/speed_vs_error.rs compares, shared with the firmware's
+//! `numbench` (examples/firmware/src/bin/numbench.rs), which counts their instructions on a
+//! Cortex-M4F: both include this file with `#[path]`, so they measure the same code. no_std:
+//! core and libm only.
+
+// `!(x >= 0.0)` is deliberate, as in the library: NaN must fail.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use microray::{Prepared, Sphere, Vec3};
+
+// ---- the intersection variants ----------------------------------------------------------------
+
+/// The lecture's formula: `(−b ± √(b² − 4ac)) / 2a` with `b = 2 f·d`.
+#[inline(never)]
+pub fn lecture(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
+    let f = o - s.center;
+    let a = d.dot(d);
+    let b = 2.0 * f.dot(d);
+    let c = f.dot(f) - s.radius * s.radius;
+    let disc = b * b - 4.0 * a * c;
+    if !(disc >= 0.0) {
+        return None;
+    }
+    let sq = libm::sqrtf(disc);
+    let t0 = (-b - sq) / (2.0 * a);
+    if t0 > 0.0 {
+        return Some(t0);
+    }
+    let t1 = (-b + sq) / (2.0 * a);
+    (t1 > 0.0).then_some(t1)
+}
+
+/// The geometric form: `t_m ± Δt` with `t_m` the projection of the centre on the ray and
+/// `Δt² = r² − (|f|² − t_m²)` (unit `d`).
+#[inline(never)]
+pub fn geometric(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
+    let f = s.center - o;
+    let tm = f.dot(d);
+    let h2 = f.dot(f) - tm * tm;
+    let dt2 = s.radius * s.radius - h2;
+    if !(dt2 >= 0.0) {
+        return None;
+    }
+    let dt = libm::sqrtf(dt2);
+    let t0 = tm - dt;
+    if t0 > 0.0 {
+        return Some(t0);
+    }
+    let t1 = tm + dt;
+    (t1 > 0.0).then_some(t1)
+}
+
+/// Stable roots `c/q`, `q/a` with the Hearn–Baker discriminant, everything in f32 (no
+/// compensation of `c`); `sqrt` is the square root to use.
+#[inline(always)]
+pub fn hearn_baker_with(o: Vec3, d: Vec3, s: &Sphere, sqrt: impl Fn(f32) -> f32) -> Option<f32> {
+    let f = o - s.center;
+    let r = s.radius;
+    let a = d.dot(d);
+    let b = f.dot(d);
+    let c = f.dot(f) - r * r;
+    let l = f - d * (b / a);
+    let disc = a * (r * r - l.dot(l));
+    if !(disc >= 0.0) {
+        return None;
+    }
+    let sq = sqrt(disc);
+    let q = if b > 0.0 { -(b + sq) } else { sq - b };
+    let (t0, t1) = (c / q, q / a);
+    let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+    if t0 > 0.0 {
+        Some(t0)
+    } else {
+        (t1 > 0.0).then_some(t1)
+    }
+}
+
+#[inline(never)]
+pub fn hearn_baker(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
+    hearn_baker_with(o, d, s, libm::sqrtf)
+}
+
+/// microray's default for a ray of its own origin (secondary rays): `Prepared::new` + `hit`.
+#[inline(never)]
+pub fn default_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
+    Prepared::new(o, s).hit(d, f32::MIN_POSITIVE, f32::INFINITY)
+}
+
+/// As above with `c` always through f64 (`Prepared::exact` per ray).
+#[inline(never)]
+pub fn exact_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
+    Prepared::exact(o, s).hit(d, f32::MIN_POSITIVE, f32::INFINITY)
+}
+
+// ---- square roots ------------------------------------------------------------------------------
+
+/// The "fast inverse square root" bit trick with `n` Newton steps, times x.
+#[inline(always)]
+pub fn rsqrt_newton(x: f32, n: u32) -> f32 {
+    let mut y = f32::from_bits(0x5f37_59df - (x.to_bits() >> 1));
+    for _ in 0..n {
+        y *= 1.5 - 0.5 * x * y * y;
+    }
+    x * y
+}
+
+// ---- specular powers ---------------------------------------------------------------------------
+
+/// `x^n` by repeated squaring for an integer exponent.
+#[inline(always)]
+pub fn pow_squaring(x: f32, n: u32) -> f32 {
+    let (mut base, mut n, mut acc) = (x, n, 1.0f32);
+    while n > 0 {
+        if n & 1 == 1 {
+            acc *= base;
+        }
+        base *= base;
+        n >>= 1;
+    }
+    acc
+}
+
+/// Schlick's rational approximation of `x^s`.
+#[inline(always)]
+pub fn pow_schlick(x: f32, s: f32) -> f32 {
+    x / (s - s * x + x)
+}
