@@ -484,11 +484,16 @@ fn select((near, far): (f32, f32), tmin: f32, tmax: f32) -> Option<f32> {
 /// The same roots, all in f64: for inputs whose squares overflow f32 (centres near 10¹⁹).
 #[cold]
 fn roots_f64(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
-    let p = Foot::new(f, d, r);
-    let b = p.b;
-    let c = p.ff - p.rr;
-    let disc = p.a * p.h2;
-    if !(disc >= 0.0) || !disc.is_finite() || !c.is_finite() || !(p.a > 0.0) {
+    let f = [f.x as f64, f.y as f64, f.z as f64];
+    let d = [d.x as f64, d.y as f64, d.z as f64];
+    let r = r as f64;
+    let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    let (a, b) = (dot(d, d), dot(f, d));
+    let c = dot(f, f) - r * r;
+    let k = b / a;
+    let l = [f[0] - k * d[0], f[1] - k * d[1], f[2] - k * d[2]];
+    let disc = a * (r * r - dot(l, l));
+    if !(disc >= 0.0) || !disc.is_finite() || !c.is_finite() || !(a > 0.0) {
         return None;
     }
     let s = libm::sqrt(disc);
@@ -496,44 +501,8 @@ fn roots_f64(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
     if q == 0.0 {
         return Some((0.0, 0.0));
     }
-    let (t0, t1) = ((c / q) as f32, (q / p.a) as f32);
+    let (t0, t1) = ((c / q) as f32, (q / a) as f32);
     Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
-}
-
-/// The f64 geometry of a ray (`f = o − m`, direction `d`) and a sphere of radius `r`, shared by
-/// the f64 fallbacks: `a = d·d`, `b = f·d`, `|f|²`, `r²`, the foot of the perpendicular from the
-/// centre `l = f − (b/a) d`, and `h2 = r² − |l|²`. For f32 inputs the products are exact in
-/// f64 and `l` is good to ~10⁻¹⁶ |f|.
-struct Foot {
-    d: [f64; 3],
-    a: f64,
-    b: f64,
-    ff: f64,
-    rr: f64,
-    l: [f64; 3],
-    h2: f64,
-}
-
-impl Foot {
-    #[inline(never)]
-    fn new(f: Vec3, d: Vec3, r: f32) -> Foot {
-        let f = [f.x as f64, f.y as f64, f.z as f64];
-        let d = [d.x as f64, d.y as f64, d.z as f64];
-        let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
-        let (a, b, rr) = (dot(d, d), dot(f, d), r as f64 * r as f64);
-        let k = b / a;
-        let l = [f[0] - k * d[0], f[1] - k * d[1], f[2] - k * d[2]];
-        let h2 = rr - dot(l, l);
-        Foot {
-            d,
-            a,
-            b,
-            ff: dot(f, f),
-            rr,
-            l,
-            h2,
-        }
-    }
 }
 
 /// Where a ray that hit `sphere` at parameter `t` meets it: the point and the point's offset from
@@ -584,10 +553,15 @@ pub(crate) fn hit_point_within(
 
 #[cold]
 fn hit_point_f64(d: Vec3, t: f32, f: Vec3, sphere: &Sphere) -> Option<(Vec3, Vec3)> {
-    let p = Foot::new(f, d, sphere.radius);
-    let (d, l, k) = (p.d, p.l, p.b / p.a);
-    let m = sphere.center;
-    let s = libm::sqrt(if p.h2 > 0.0 { p.h2 / p.a } else { 0.0 });
+    let v = |p: Vec3| [p.x as f64, p.y as f64, p.z as f64];
+    let dot = |u: [f64; 3], w: [f64; 3]| u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
+    let (f, d, m) = (v(f), v(d), v(sphere.center));
+    let r = sphere.radius as f64;
+    let a = dot(d, d);
+    let k = dot(f, d) / a;
+    let l = [f[0] - k * d[0], f[1] - k * d[1], f[2] - k * d[2]];
+    let h2 = r * r - dot(l, l);
+    let s = libm::sqrt(if h2 > 0.0 { h2 / a } else { 0.0 });
     // The roots are −k ∓ s; the hit is the one that `t` approximates.
     let t = t as f64;
     let s = if libm::fabs(t - (-k - s)) <= libm::fabs(t - (-k + s)) {
@@ -598,9 +572,9 @@ fn hit_point_f64(d: Vec3, t: f32, f: Vec3, sphere: &Sphere) -> Option<(Vec3, Vec
     let off = [l[0] + s * d[0], l[1] + s * d[1], l[2] + s * d[2]];
     let offset = Vec3::new(off[0] as f32, off[1] as f32, off[2] as f32);
     let point = Vec3::new(
-        (m.x as f64 + off[0]) as f32,
-        (m.y as f64 + off[1]) as f32,
-        (m.z as f64 + off[2]) as f32,
+        (m[0] + off[0]) as f32,
+        (m[1] + off[1]) as f32,
+        (m[2] + off[2]) as f32,
     );
     if offset.is_finite() && point.is_finite() {
         Some((point, offset))
