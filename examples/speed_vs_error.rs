@@ -222,17 +222,42 @@ fn timing_set(n: usize) -> (Vec3, Vec<Vec3>, Vec<Sphere>) {
     (eye, dirs, spheres)
 }
 
+// Every variant is inlined into its own copy of the loop (generic `f`), as a renderer would
+// inline it: called through a pointer, each paid the call and the passing of two `Vec3`s,
+// whose cost swung by 2× with unrelated changes of code layout.
 fn sum_hits(
     eye: Vec3,
     dirs: &[Vec3],
     spheres: &[Sphere],
-    f: fn(Vec3, Vec3, &Sphere) -> Option<f32>,
+    f: impl Fn(Vec3, Vec3, &Sphere) -> Option<f32>,
 ) -> f32 {
     let mut acc = 0.0;
+    let eye = black_box(eye);
     for &d in dirs {
         for s in spheres {
-            if let Some(t) = f(black_box(eye), d, s) {
+            if let Some(t) = f(eye, d, s) {
                 acc += t;
+            }
+        }
+    }
+    acc
+}
+
+/// The sum of the hits' t of shadow-like rays `(origin, direction, sphere left)`; the sphere a
+/// ray leaves is not intersected (microray uses its exit root). Inlined per variant, as
+/// `sum_hits`.
+fn sum_shadow_rays(
+    rays: &[(Vec3, Vec3, usize)],
+    spheres: &[Sphere],
+    f: impl Fn(Vec3, Vec3, &Sphere) -> Option<f32>,
+) -> f32 {
+    let mut acc = 0.0;
+    for &(o, d, from) in rays {
+        for (j, s) in spheres.iter().enumerate() {
+            if j != from {
+                if let Some(t) = f(o, d, s) {
+                    acc += t;
+                }
             }
         }
     }
@@ -606,20 +631,6 @@ fn main() {
             )
         })
         .collect();
-    let sum_shadow = |f: Isect| {
-        let mut acc = 0.0;
-        for &(o, d, from) in &shadow_rays {
-            // the sphere a ray leaves is not intersected (microray uses its exit root)
-            for (j, s) in lit_spheres.iter().enumerate() {
-                if j != from {
-                    if let Some(t) = f(black_box(o), d, s) {
-                        acc += t;
-                    }
-                }
-            }
-        }
-        acc
-    };
     // microray's shading: Prepared::leaving_hit (from the hit's centre and offset, the sphere
     // skipped when certainly behind)
     let sum_shading = || {
@@ -661,11 +672,11 @@ fn main() {
         shadow_items,
         runs,
         &mut [
-            &mut || sum_shadow(lecture),
-            &mut || sum_shadow(geometric),
-            &mut || sum_shadow(hearn_baker),
-            &mut || sum_shadow(default_per_ray),
-            &mut || sum_shadow(exact_per_ray),
+            &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, lecture),
+            &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, geometric),
+            &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, hearn_baker),
+            &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, default_per_ray),
+            &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, exact_per_ray),
             &mut || sum_shading(),
             &mut || sum_blocks(),
         ],

@@ -11,7 +11,7 @@ use microray::{Prepared, Sphere, Vec3};
 // ---- the intersection variants ----------------------------------------------------------------
 
 /// The lecture's formula: `(−b ± √(b² − 4ac)) / 2a` with `b = 2 f·d`.
-#[inline(never)]
+#[inline]
 pub fn lecture(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     let f = o - s.center;
     let a = d.dot(d);
@@ -32,7 +32,7 @@ pub fn lecture(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
 
 /// The geometric form: `t_m ± Δt` with `t_m` the projection of the centre on the ray and
 /// `Δt² = r² − (|f|² − t_m²)` (unit `d`).
-#[inline(never)]
+#[inline]
 pub fn geometric(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     let f = s.center - o;
     let tm = f.dot(d);
@@ -75,19 +75,19 @@ pub fn hearn_baker_with(o: Vec3, d: Vec3, s: &Sphere, sqrt: impl Fn(f32) -> f32)
     }
 }
 
-#[inline(never)]
+#[inline]
 pub fn hearn_baker(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     hearn_baker_with(o, d, s, libm::sqrtf)
 }
 
 /// microray's default for a ray of its own origin (secondary rays): `Prepared::new` + `hit`.
-#[inline(never)]
+#[inline]
 pub fn default_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     Prepared::new(o, s).hit(d, f32::MIN_POSITIVE, f32::INFINITY)
 }
 
 /// As above with `c` always through f64 (`Prepared::exact` per ray).
-#[inline(never)]
+#[inline]
 pub fn exact_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     Prepared::exact(o, s).hit(d, f32::MIN_POSITIVE, f32::INFINITY)
 }
