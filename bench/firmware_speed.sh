@@ -59,7 +59,7 @@ for sc in 5 16; do
     envs=(MR_X=1)
     [ "$sc" = 16 ] && envs+=(MR_SPHERES16=1)
     [ "$mode" = brute ] && envs+=(MR_BRUTE=1)
-    env "${envs[@]}" cargo build --quiet --release --target thumbv7em-none-eabihf
+    env "${envs[@]}" cargo build --quiet --release --target thumbv7em-none-eabihf --bin firmware
     out=$(timeout 900 qemu-system-arm -M mps2-an386 -cpu cortex-m4 -nographic -monitor none \
       -serial none -semihosting-config enable=on,target=native -icount shift=0 \
       -kernel target/thumbv7em-none-eabihf/release/firmware || true)
