@@ -800,8 +800,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let (lo, hi) = (group.lo, group.hi);
             let q = (lo + hi) * 0.5;
             let half = (hi - lo) * 0.5;
-            // Rounding of q and of the length: a relative pad far above it.
-            let rho = half.length() * (1.0 + 1e-5) + 1e-5 * q.max_abs() + f32::MIN_POSITIVE;
+            // Rounding of q and of the length: a relative pad far above it. Shadow rays leave
+            // from the hit's `anchor + rel`, not from these points: the two differ by the f32
+            // error of the hit offset, ~4ε of the distance from the eye (f32 offsets are kept
+            // out to 2048 radii, `scene::near2`), which 2⁻²⁰ of that distance covers.
+            let reach = (q - self.camera.eye()).length() + half.length();
+            let rho = half.length() * (1.0 + 1e-5)
+                + 1e-5 * q.max_abs()
+                + reach * (1.0 / 1_048_576.0)
+                + f32::MIN_POSITIVE;
             let bounded = rho.is_finite() && q.is_finite();
             for (li, range) in ranges.iter_mut().enumerate() {
                 *range = ALL;
