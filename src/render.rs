@@ -288,27 +288,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The closest hit of a primary ray (one that starts at the eye), against every sphere.
     #[inline]
     fn primary_hit(&self, ray: &Ray) -> Option<Hit> {
-        let mut best: Option<(f32, usize, &Prepared)> = None;
+        let mut best: Option<(f32, usize)> = None;
         let mut tmax = f32::INFINITY;
         for (i, k) in self.eye.iter().enumerate() {
             if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
                 tmax = t;
-                best = Some((t, i, k));
+                best = Some((t, i));
             }
         }
-        let (t, i, k) = best?;
-        let sphere = self.scene.spheres().get(i)?;
-        let near2 = self.scene.near2(i);
-        Some(make_hit(
-            ray,
-            t,
-            i,
-            k.f,
-            sphere,
-            near2,
-            ray.origin,
-            Vec3::ZERO,
-        ))
+        let (t, i) = best?;
+        self.eye_hit(ray, t, i)
     }
 
     /// The closest hit of the primary ray through column `i`, as `(t, sphere)`, against the

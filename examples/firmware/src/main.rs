@@ -18,56 +18,23 @@
 #![no_std]
 #![no_main]
 
+mod board;
 mod scene;
 
-use core::arch::asm;
-use core::panic::PanicInfo;
 use core::ptr::{addr_of, addr_of_mut, read_volatile, write_volatile};
-use core::sync::atomic::{AtomicU32, Ordering};
 
-use cortex_m::peripheral::{syst::SystClkSource, SYST};
-use cortex_m_rt::{entry, exception, ExceptionFrame};
-use cortex_m_semihosting::{debug, hprintln};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::hprintln;
 use embedded_graphics::pixelcolor::Rgb565;
 use microray::{Camera, Frame};
 
+use board::{exit, start_clock, ticks};
 use scene::{BenchScene, HEIGHT, LIGHTS, SPHERES, STRIP_ROWS, WIDTH};
 
 #[cfg(target_abi = "eabihf")]
 const BOARD: &str = "mps2-an386";
 #[cfg(not(target_abi = "eabihf"))]
 const BOARD: &str = "microbit";
-
-/// SysTick reload: the full 24 bits.
-const RELOAD: u32 = 0x00FF_FFFF;
-/// Completed SysTick periods; written only by the SysTick handler (Cortex-M0 has no atomic
-/// read-modify-write, so load + store).
-static WRAPS: AtomicU32 = AtomicU32::new(0);
-
-#[exception]
-fn SysTick() {
-    WRAPS.store(WRAPS.load(Ordering::Relaxed) + 1, Ordering::Relaxed);
-}
-
-/// SysTick ticks since it was started, as one 64-bit count.
-fn ticks() -> u64 {
-    loop {
-        let w = WRAPS.load(Ordering::SeqCst);
-        let v = SYST::get_current();
-        if WRAPS.load(Ordering::SeqCst) == w {
-            return ((w as u64) << 24) | (RELOAD - v) as u64;
-        }
-    }
-}
-
-/// Exactly `2 n` instructions (`subs` and `bne` per iteration) for the calibration.
-#[inline(never)]
-fn spin(n: u32) {
-    // SAFETY: register-only loop; touches no memory and no stack.
-    unsafe {
-        asm!("2:", "subs {0}, #1", "bne 2b", inout(reg) n => _, options(nomem, nostack));
-    }
-}
 
 /// The scene, built in place by `setup` (const-initialised empty: no copy on the stack).
 static mut SCENE: BenchScene = BenchScene::new();
@@ -118,16 +85,6 @@ fn fail(what: &str, e: microray::Error) -> ! {
     exit(false)
 }
 
-fn exit(ok: bool) -> ! {
-    debug::exit(if ok {
-        debug::EXIT_SUCCESS
-    } else {
-        debug::EXIT_FAILURE
-    });
-    #[allow(clippy::empty_loop)]
-    loop {}
-}
-
 /// Builds scene, camera and frame in statics: the only code allowed to panic (it does not, with
 /// this scene). Kept out of `main` so that its temporaries leave the stack before rendering.
 #[inline(never)]
@@ -150,19 +107,9 @@ fn setup() -> &'static Frame<'static, SPHERES, LIGHTS> {
 #[entry]
 fn main() -> ! {
     paint_stack();
-    let mut cp = cortex_m::Peripherals::take().unwrap_or_else(|| exit(false));
-    cp.SYST.set_clock_source(SystClkSource::Core);
-    cp.SYST.set_reload(RELOAD);
-    cp.SYST.clear_current();
-    cp.SYST.enable_interrupt();
-    cp.SYST.enable_counter();
-    // After clear_current the counter reads 0 until it first reloads: wait for that.
-    while SYST::get_current() == 0 {}
-
+    let cp = cortex_m::Peripherals::take().unwrap_or_else(|| exit(false));
     // Calibration: SysTick ticks per 2 000 000 instructions.
-    let t = ticks();
-    spin(1_000_000);
-    let calib = ticks() - t;
+    let calib = start_clock(cp.SYST);
 
     let frame = setup();
     // SAFETY: the only reference ever made to STRIP (main runs once and never returns).
@@ -206,16 +153,4 @@ fn main() -> ! {
         && pixels == WIDTH * HEIGHT;
     hprintln!("crc_ok={}", if ok { 1 } else { 0 });
     exit(ok)
-}
-
-#[exception]
-unsafe fn HardFault(ef: &ExceptionFrame) -> ! {
-    hprintln!("error=hardfault pc={:#010x}", ef.pc());
-    exit(false)
-}
-
-#[panic_handler]
-fn panic(info: &PanicInfo) -> ! {
-    hprintln!("error=panic: {}", info);
-    exit(false)
 }

@@ -21,64 +21,21 @@
 #![no_std]
 #![no_main]
 
+#[path = "../board.rs"]
+mod board;
 #[path = "../../../common/variants.rs"]
 mod variants;
 
-use core::arch::asm;
 use core::hint::black_box;
-use core::panic::PanicInfo;
 use core::ptr::addr_of_mut;
-use core::sync::atomic::{AtomicU32, Ordering};
 
-use cortex_m::peripheral::{syst::SystClkSource, SYST};
-use cortex_m_rt::{entry, exception, ExceptionFrame};
-use cortex_m_semihosting::{debug, hprintln};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::hprintln;
 use microray::math::{spec_pow, sqrt};
 use microray::{Prepared, Sphere, Vec3};
 
+use board::{exit, start_clock, ticks};
 use variants::*;
-
-// ---- timing (as in main.rs) ---------------------------------------------------------------------
-
-/// SysTick reload: the full 24 bits.
-const RELOAD: u32 = 0x00FF_FFFF;
-/// Completed SysTick periods; written only by the SysTick handler.
-static WRAPS: AtomicU32 = AtomicU32::new(0);
-
-#[exception]
-fn SysTick() {
-    WRAPS.store(WRAPS.load(Ordering::Relaxed) + 1, Ordering::Relaxed);
-}
-
-/// SysTick ticks since it was started, as one 64-bit count.
-fn ticks() -> u64 {
-    loop {
-        let w = WRAPS.load(Ordering::SeqCst);
-        let v = SYST::get_current();
-        if WRAPS.load(Ordering::SeqCst) == w {
-            return ((w as u64) << 24) | (RELOAD - v) as u64;
-        }
-    }
-}
-
-/// Exactly `2 n` instructions (`subs` and `bne` per iteration) for the calibration.
-#[inline(never)]
-fn spin(n: u32) {
-    // SAFETY: register-only loop; touches no memory and no stack.
-    unsafe {
-        asm!("2:", "subs {0}, #1", "bne 2b", inout(reg) n => _, options(nomem, nostack));
-    }
-}
-
-fn exit(ok: bool) -> ! {
-    debug::exit(if ok {
-        debug::EXIT_SUCCESS
-    } else {
-        debug::EXIT_FAILURE
-    });
-    #[allow(clippy::empty_loop)]
-    loop {}
-}
 
 /// Counts instructions with the SysTick calibration `calib` (ticks per 2 000 000).
 struct Counter {
@@ -292,17 +249,10 @@ fn each(xs: &[f32], f: impl Fn(f32) -> f32) -> f32 {
 
 #[entry]
 fn main() -> ! {
-    let mut cp = cortex_m::Peripherals::take().unwrap_or_else(|| exit(false));
-    cp.SYST.set_clock_source(SystClkSource::Core);
-    cp.SYST.set_reload(RELOAD);
-    cp.SYST.clear_current();
-    cp.SYST.enable_interrupt();
-    cp.SYST.enable_counter();
-    // After clear_current the counter reads 0 until it first reloads: wait for that.
-    while SYST::get_current() == 0 {}
-    let t = ticks();
-    spin(1_000_000);
-    let c = Counter { calib: ticks() - t };
+    let cp = cortex_m::Peripherals::take().unwrap_or_else(|| exit(false));
+    let c = Counter {
+        calib: start_clock(cp.SYST),
+    };
 
     // SAFETY: the only references ever made to these statics (main runs once).
     let (dirs, rays, xs, ps) = unsafe {
@@ -416,16 +366,4 @@ fn main() -> ! {
     }
     hprintln!("done=1");
     exit(true)
-}
-
-#[exception]
-unsafe fn HardFault(ef: &ExceptionFrame) -> ! {
-    hprintln!("error=hardfault pc={:#010x}", ef.pc());
-    exit(false)
-}
-
-#[panic_handler]
-fn panic(info: &PanicInfo) -> ! {
-    hprintln!("error=panic: {}", info);
-    exit(false)
 }
