@@ -200,26 +200,14 @@ fn time_all(items: usize, runs: usize, fs: &mut [&mut dyn FnMut() -> f32]) -> Ve
 
 /// Primary-ray-like timing set: one eye, many directions, a few spheres of all sizes.
 fn timing_set(n: usize) -> (Vec3, Vec<Vec3>, Vec<Sphere>) {
-    let mut g = Rng(99);
-    let eye = Vec3::new(0.0, 1.0, 0.0);
-    let spheres = vec![
-        Sphere::new(Vec3::new(0.0, -1e6, 0.0), 1e6),
-        Sphere::new(Vec3::new(0.0, 0.5, -4.0), 0.5),
-        Sphere::new(Vec3::new(1.0, 0.3, -3.0), 0.3),
-        Sphere::new(Vec3::new(-1.3, 0.4, -5.0), 0.4),
-        Sphere::new(Vec3::new(3.0, 2.0, -1e4), 1.0),
-        Sphere::new(Vec3::new(0.0, 1.0, -10.0), 1e-4),
-        Sphere::new(Vec3::new(0.0, 9999.0, 0.0), 1e4),
-        Sphere::new(Vec3::new(2.0, 1.0, -8.0), 2.0),
-    ];
+    let mut g = Rng(SEED_PRIMARY);
     let dirs = (0..n)
         .map(|_| {
-            let d = [g.range(-0.6, 0.6), g.range(-0.5, 0.3), -1.0];
-            let nd = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-            v32([d[0] / nd, d[1] / nd, d[2] / nd])
+            let x = g.range(-0.6, 0.6);
+            primary_dir(x, g.range(-0.5, 0.3))
         })
         .collect();
-    (eye, dirs, spheres)
+    (EYE, dirs, PRIMARY_SPHERES.to_vec())
 }
 
 // Every variant is inlined into its own copy of the loop (generic `f`), as a renderer would
@@ -612,23 +600,11 @@ fn main() {
     // tests/data/lit.toml, directions away from the surface.
     let lit: Box<Desktop> = Box::new(scene_file::load("tests/data/lit.toml").unwrap());
     let lit_spheres: Vec<Sphere> = lit.scene.spheres().to_vec();
-    let mut g2 = Rng(5);
+    let mut g2 = Rng(SEED_SHADOW);
     let shadow_rays: Vec<(Vec3, Vec3, usize)> = (0..if quick { 2_000 } else { 20_000 })
         .map(|k| {
-            let i = k % lit_spheres.len();
-            let s = &lit_spheres[i];
             let n = g2.dir();
-            let mut d = g2.dir();
-            if d[0] * n[0] + d[1] * n[1] + d[2] * n[2] < 0.0 {
-                d = [-d[0], -d[1], -d[2]];
-            }
-            let r = s.radius as f64;
-            let m = [s.center.x as f64, s.center.y as f64, s.center.z as f64];
-            (
-                v32([m[0] + r * n[0], m[1] + r * n[1], m[2] + r * n[2]]),
-                v32(d),
-                i,
-            )
+            shadow_ray(&lit_spheres, k, n, g2.dir())
         })
         .collect();
     // microray's shading: Prepared::leaving_hit (from the hit's centre and offset, the sphere
@@ -849,7 +825,7 @@ fn main() {
     println!("\n(plot: docs/speed_vs_error.png — x: ns per test, log; y: max ulp of t, log; dashed: 4 ulp)");
 
     // 2. Square roots.
-    let mut g = Rng(7);
+    let mut g = Rng(SEED_ARGS);
     let xs: Vec<f32> = (0..if quick { 10_000 } else { 100_000 })
         .map(|_| 10f64.powf(g.range(-8.0, 8.0)) as f32)
         .collect();

@@ -125,3 +125,54 @@ pub fn pow_squaring(x: f32, n: u32) -> f32 {
 pub fn pow_schlick(x: f32, s: f32) -> f32 {
     x / (s - s * x + x)
 }
+
+// ---- the timing sets ---------------------------------------------------------------------------
+// Both sides draw the random numbers (same generator and seeds) and build the rays here, so the
+// M4F counts are taken on a prefix of the host's sets.
+
+/// The primary-like set's eye: 1 above the top of the ground sphere below.
+pub const EYE: Vec3 = Vec3::new(0.0, 1.0, 0.0);
+
+/// The primary-like set's spheres: a ground of radius 10⁶ just below the eye, ordinary, far and
+/// tiny spheres, and one of radius 10⁴ that the eye sits just inside.
+pub const PRIMARY_SPHERES: [Sphere; 8] = [
+    Sphere::new(Vec3::new(0.0, -1e6, 0.0), 1e6),
+    Sphere::new(Vec3::new(0.0, 0.5, -4.0), 0.5),
+    Sphere::new(Vec3::new(1.0, 0.3, -3.0), 0.3),
+    Sphere::new(Vec3::new(-1.3, 0.4, -5.0), 0.4),
+    Sphere::new(Vec3::new(3.0, 2.0, -1e4), 1.0),
+    Sphere::new(Vec3::new(0.0, 1.0, -10.0), 1e-4),
+    Sphere::new(Vec3::new(0.0, 9999.0, 0.0), 1e4),
+    Sphere::new(Vec3::new(2.0, 1.0, -8.0), 2.0),
+];
+
+/// Seeds of the primary-like directions, the shadow-like rays and the sqrt/pow arguments.
+pub const SEED_PRIMARY: u64 = 99;
+pub const SEED_SHADOW: u64 = 5;
+pub const SEED_ARGS: u64 = 7;
+
+/// A primary-like direction from two uniform draws, `x` in [−0.6, 0.6) and `y` in [−0.5, 0.3).
+pub fn primary_dir(x: f64, y: f64) -> Vec3 {
+    let n = libm::sqrt(x * x + y * y + 1.0);
+    Vec3::new((x / n) as f32, (y / n) as f32, (-1.0 / n) as f32)
+}
+
+/// Shadow-like ray `k` on `spheres`: from the point of sphere `k mod len` along the unit normal
+/// `n`, in the unit direction `d` turned away from the surface; `(origin, direction, sphere)`.
+pub fn shadow_ray(spheres: &[Sphere], k: usize, n: [f64; 3], d: [f64; 3]) -> (Vec3, Vec3, usize) {
+    let i = k % spheres.len();
+    let s = spheres[i];
+    let d = if d[0] * n[0] + d[1] * n[1] + d[2] * n[2] < 0.0 {
+        [-d[0], -d[1], -d[2]]
+    } else {
+        d
+    };
+    let r = s.radius as f64;
+    let m = [s.center.x as f64, s.center.y as f64, s.center.z as f64];
+    let v32 = |v: [f64; 3]| Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
+    (
+        v32([m[0] + r * n[0], m[1] + r * n[1], m[2] + r * n[2]]),
+        v32(d),
+        i,
+    )
+}

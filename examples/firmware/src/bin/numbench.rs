@@ -108,10 +108,6 @@ impl Rng {
     }
 }
 
-fn v32(v: [f64; 3]) -> Vec3 {
-    Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32)
-}
-
 /// The size of each set: the sets take 48 KiB of the M4F's 64 KiB of RAM. `run.sh m0` builds
 /// this bin too, for the micro:bit's 16 KiB, where smaller sets keep it linking.
 #[cfg(target_abi = "eabihf")]
@@ -119,18 +115,6 @@ const SET: usize = 1024;
 #[cfg(not(target_abi = "eabihf"))]
 const SET: usize = 128;
 
-/// speed_vs_error's `timing_set`: eye and spheres.
-const EYE: Vec3 = Vec3::new(0.0, 1.0, 0.0);
-const PRIMARY_SPHERES: [Sphere; 8] = [
-    Sphere::new(Vec3::new(0.0, -1e6, 0.0), 1e6),
-    Sphere::new(Vec3::new(0.0, 0.5, -4.0), 0.5),
-    Sphere::new(Vec3::new(1.0, 0.3, -3.0), 0.3),
-    Sphere::new(Vec3::new(-1.3, 0.4, -5.0), 0.4),
-    Sphere::new(Vec3::new(3.0, 2.0, -1e4), 1.0),
-    Sphere::new(Vec3::new(0.0, 1.0, -10.0), 1e-4),
-    Sphere::new(Vec3::new(0.0, 9999.0, 0.0), 1e4),
-    Sphere::new(Vec3::new(2.0, 1.0, -8.0), 2.0),
-];
 const PRIMARY_DIRS: usize = SET;
 
 /// The spheres of tests/data/lit.toml, in file order (speed_vs_error's shadow-like set).
@@ -152,30 +136,17 @@ static mut POW_ARGS: [f32; ARGS] = [0.0; ARGS];
 
 /// Fills the statics as speed_vs_error fills its sets (prefixes of them).
 fn generate(dirs: &mut [Vec3], shadow: &mut [(Vec3, Vec3, usize)], xs: &mut [f32], ps: &mut [f32]) {
-    let mut g = Rng(99);
+    let mut g = Rng(SEED_PRIMARY);
     for d in dirs.iter_mut() {
-        let v = [g.range(-0.6, 0.6), g.range(-0.5, 0.3), -1.0];
-        let n = libm::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        *d = v32([v[0] / n, v[1] / n, v[2] / n]);
+        let x = g.range(-0.6, 0.6);
+        *d = primary_dir(x, g.range(-0.5, 0.3));
     }
-    let mut g = Rng(5);
+    let mut g = Rng(SEED_SHADOW);
     for (k, ray) in shadow.iter_mut().enumerate() {
-        let i = k % LIT_SPHERES.len();
-        let s = &LIT_SPHERES[i];
         let n = g.dir();
-        let mut d = g.dir();
-        if d[0] * n[0] + d[1] * n[1] + d[2] * n[2] < 0.0 {
-            d = [-d[0], -d[1], -d[2]];
-        }
-        let r = s.radius as f64;
-        let m = [s.center.x as f64, s.center.y as f64, s.center.z as f64];
-        *ray = (
-            v32([m[0] + r * n[0], m[1] + r * n[1], m[2] + r * n[2]]),
-            v32(d),
-            i,
-        );
+        *ray = shadow_ray(&LIT_SPHERES, k, n, g.dir());
     }
-    let mut g = Rng(7);
+    let mut g = Rng(SEED_ARGS);
     for x in xs.iter_mut() {
         *x = libm::pow(10.0, g.range(-8.0, 8.0)) as f32;
     }
