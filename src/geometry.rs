@@ -12,16 +12,17 @@
 //!    Press et al., Ray Tracing Gems ch. 7).
 //! 3. **Huge spheres seen from nearby** (a ground of radius 10⁶ one unit below the eye):
 //!    `c = |f|² − r²` cancels; in f32 it is off by percents. Where the f32 value would lose
-//!    more than about a bit (an origin within 0.73 r of the surface) we recompute it in f64,
-//!    where the differences and squares of f32 numbers are exact and the sum is good to ~10⁻¹⁶
-//!    of `|f|²`. For rays that share an origin (primary rays, shadow rays cast from a point
-//!    light) [`Prepared::exact`] does this once per frame.
+//!    more than about a bit (an origin within 0.73 r of the surface) we recompute it from
+//!    error-free pieces (TwoSum, Dekker's exact squares), still in f32, good to ~2⁻⁴⁵ of
+//!    `|f|²`: f64 would do as well, but it is software on a Cortex-M. For rays that share an
+//!    origin (primary rays, shadow rays cast from a point light) [`Prepared::exact`] does this
+//!    once per frame.
 //!
 //! Two more losses come after the root, and are answered here too:
 //!
 //! 4. **The hit's offset from the centre** (the normal times r): `f + t·d` loses the low bits
 //!    of r when `|f| ≫ r`, even with t exact. [`hit_point`] recomputes it in f64 from 16 radii
-//!    away.
+//!    away (from 2048 for dull materials, whose shading the lost bits do not reach).
 //! 5. **Rays leaving a hit far from the origin**: the hit point rounded to f32 is off by half an
 //!    ulp of its coordinates (5·10⁻⁴ at 10⁴). Shadow and mirror rays therefore take `f` for
 //!    another sphere as `(anchor − m) + rel`: the hit's centre and offset, or the eye and the
@@ -29,11 +30,12 @@
 //!    `anchor − m` is exact or nearly, so the error scales with the scene's size, not with its
 //!    distance from the origin: a scene moved by an exact vector renders the same bits.
 //!
-//! Everything else stays in f32; f64 is only the fallback, and it is IEEE-exact on every
-//! target (soft-float included), so a microcontroller still computes the host's bits.
+//! Everything else stays in f32; f64 is only the fallback (far hit offsets, squares beyond the
+//! f32 range), and it is IEEE-exact on every target (soft-float included), so a
+//! microcontroller still computes the host's bits.
 //! docs/numerics.md measures what each of these costs and buys.
 
-use crate::math::{finite, sqrt, Vec3};
+use crate::math::{finite, sqrt, two_square, two_sum, Vec3};
 
 /// A ray `origin + t·dir`; `dir` need not be unit length.
 ///
@@ -122,7 +124,7 @@ impl Sphere {
 /// ```
 #[inline]
 pub fn ray_intersect(ray: &Ray, sphere: &Sphere, tmin: f32, tmax: f32) -> Option<f32> {
-    Prepared::new(ray.origin, sphere).hit(ray.dir, tmin, tmax)
+    Prepared::ray_hit(ray, sphere, tmin, tmax).map(|(t, _)| t)
 }
 
 /// What a ray origin and a sphere share, whatever the ray's direction: `f = o − m` and
@@ -159,32 +161,48 @@ pub struct Prepared {
 /// ground sphere of radius 1000 met the ground 700 ulp off, enough to flip its shadow.
 const CANCEL: f32 = 0.5;
 
-/// `c` in f64 from exact differences: for f32 inputs `x − y` and `x²` lose nothing in f64
-/// (except at extreme exponent gaps), so only the final sum rounds.
-fn c_f64(o: Vec3, m: Vec3, r: f32) -> f64 {
-    let fx = o.x as f64 - m.x as f64;
-    let fy = o.y as f64 - m.y as f64;
-    let fz = o.z as f64 - m.z as f64;
-    let r = r as f64;
-    fx * fx + fy * fy + fz * fz - r * r
-}
-
-/// `c` in f64 for the origin `base + offset` (see [`Prepared::from_surface`]).
-fn c_f64_surface(base: Vec3, offset: Vec3, sphere: &Sphere) -> f64 {
-    let g = |b: f32, m: f32, o: f32| (b as f64 - m as f64) + o as f64;
+/// `c = |f|² − r²` for the origin `base + offset` (`offset` zero for a plain origin) where its
+/// f32 value cancels (an origin near the surface), from error-free pieces: `f` as `h + l` per
+/// coordinate (`h` the f32 `(base − m) + offset`, `l` the errors of both sums), each square of
+/// `h` as its rounded value and error, and the sum of the rounded squares with its errors.
+/// Only the error terms, each ~2⁻²⁴ of `|f|² + r²`, are added with rounding, so the result is
+/// good to ~2⁻⁴⁵ (|f|² + r²) plus its own rounding: ~2⁻²⁴ |c| even where `|f|²` and `r²`
+/// agree in 20 bits (the eye 1 above a ground of radius 10⁶). Where `|base − m|` is much more
+/// than `|f|` (a base far away for the sphere's size), `l`'s error grows with their ratio.
+///
+/// f32 rather than f64, which is software on every Cortex-M (~1 000 instructions here against
+/// ~100), and plain f32 operations on every target, so every target computes the same bits.
+// Out of line on Arm, where s16–s31 keep the caller's values across the call; inlined
+// elsewhere: x86-64 saves no float register across a call, so a call in a loop spills them.
+#[cfg_attr(target_arch = "arm", inline(never))]
+#[cfg_attr(not(target_arch = "arm"), inline(always))]
+fn c_near(base: Vec3, offset: Vec3, sphere: &Sphere) -> f32 {
     let m = sphere.center;
-    let (x, y, z) = (
-        g(base.x, m.x, offset.x),
-        g(base.y, m.y, offset.y),
-        g(base.z, m.z, offset.z),
-    );
-    let r = sphere.radius as f64;
-    x * x + y * y + z * z - r * r
+    let (pr, er) = two_square(sphere.radius);
+    // `big` the rounded sum of the squares; `small` every error term, each ~2⁻²⁴ of the total.
+    let (mut big, mut small) = (-pr, -er);
+    // A loop, not three copies: flash is scarce, and at opt-level 3 LLVM unrolls it anyway.
+    for (b, (o, m)) in [base.x, base.y, base.z].into_iter().zip(
+        [offset.x, offset.y, offset.z]
+            .into_iter()
+            .zip([m.x, m.y, m.z]),
+    ) {
+        let (g, gl) = two_sum(b, -m);
+        let (h, e) = two_sum(g, o);
+        let l = gl + e;
+        let (p, ep) = two_square(h);
+        let (sum, t) = two_sum(big, p);
+        big = sum;
+        // (h + l)² − h² = l (2h + l): small, and rounded only relative to itself.
+        small += (t + ep) + l * (2.0 * h + l);
+    }
+    big + small
 }
 
 impl Prepared {
-    /// The constants for rays from `origin`, with `c` always computed through f64: for origins
-    /// that many rays share (the eye, a point light), where it is worth its cost.
+    /// The constants for rays from `origin`, with `c` always computed the compensated way
+    /// (`c_near`), not only where the f32 value cancels: for origins that many rays share (the
+    /// eye, a point light), where it is worth its cost.
     ///
     /// ```
     /// # use microray::{Prepared, Sphere, Vec3};
@@ -192,15 +210,16 @@ impl Prepared {
     /// assert_eq!((k.f, k.c), (Vec3::new(0.0, 0.0, 3.0), 8.0));
     /// ```
     pub fn exact(origin: Vec3, sphere: &Sphere) -> Self {
-        Prepared {
-            f: origin - sphere.center,
-            c: c_f64(origin, sphere.center, sphere.radius) as f32,
-            r: sphere.radius,
-        }
+        let (f, r) = (origin - sphere.center, sphere.radius);
+        let c = c_near(origin, Vec3::ZERO, sphere);
+        // Beyond the range of `c_near` (|f| or r above ~10³⁴): the plain value, which is then
+        // infinite or NaN as `c` in f64 would be once rounded to f32.
+        let c = if finite(c) { c } else { f.dot(f) - r * r };
+        Prepared { f, c, r }
     }
 
-    /// The constants for one ray from `origin`: `c` in f32, redone in f64 where the f32
-    /// subtraction cancels more than a bit (an origin within 0.73 radii of the surface) or
+    /// The constants for one ray from `origin`: `c` in f32, redone the compensated way where the
+    /// f32 subtraction cancels more than a bit (an origin within 0.73 radii of the surface) or
     /// overflows.
     ///
     /// ```
@@ -211,20 +230,18 @@ impl Prepared {
     #[inline]
     pub fn new(origin: Vec3, sphere: &Sphere) -> Self {
         let f = origin - sphere.center;
-        Prepared::finish(f, sphere.radius, || {
-            c_f64(origin, sphere.center, sphere.radius)
-        })
+        Prepared::finish(f, sphere.radius, || c_near(origin, Vec3::ZERO, sphere))
     }
 
     /// `c` for `f` in f32, or `exact()` where the f32 value cancels or overflows.
     #[inline]
-    fn finish(f: Vec3, r: f32, exact: impl FnOnce() -> f64) -> Self {
+    fn finish(f: Vec3, r: f32, exact: impl FnOnce() -> f32) -> Self {
         let (ff, rr) = (f.dot(f), r * r);
         let c = ff - rr;
         let c = if libm::fabsf(c) > (ff + rr) * CANCEL && finite(c) {
             c
         } else {
-            exact() as f32
+            exact()
         };
         Prepared { f, c, r }
     }
@@ -235,7 +252,7 @@ impl Prepared {
     /// The hit point itself, rounded to f32, is off by half an ulp of its coordinates: 5·10⁻⁴
     /// for a scene 10⁴ from the origin, a large part of a unit sphere's shading. Centres near
     /// each other subtract exactly, and the offset is small and accurate, so `f` is good to an
-    /// ulp of `|f|` wherever the scene is. `c` falls back to f64 as in [`Prepared::new`].
+    /// ulp of `|f|` wherever the scene is. `c` is compensated as in [`Prepared::new`].
     ///
     /// ```
     /// # use microray::{Prepared, Sphere, Vec3};
@@ -248,16 +265,25 @@ impl Prepared {
     #[inline]
     pub fn from_surface(base: Vec3, offset: Vec3, sphere: &Sphere) -> Self {
         let f = (base - sphere.center) + offset;
-        Prepared::finish(f, sphere.radius, || c_f64_surface(base, offset, sphere))
+        Prepared::finish(f, sphere.radius, || c_near(base, offset, sphere))
+    }
+
+    /// `Prepared::new(ray.origin, sphere).hit(ray.dir, tmin, tmax)` with the `f` it used, a
+    /// clear miss decided before `c` is finished (see `fused`): [`ray_intersect`].
+    #[inline]
+    pub(crate) fn ray_hit(ray: &Ray, sphere: &Sphere, tmin: f32, tmax: f32) -> Option<(f32, Vec3)> {
+        let (o, m, r) = (ray.origin, sphere.center, sphere.radius);
+        Prepared::fused(o - m, r, ray.dir, tmin, tmax, false, || {
+            c_near(o, Vec3::ZERO, sphere)
+        })
     }
 
     /// What `Prepared::from_surface(anchor, rel, sphere).hit(d, tmin, tmax)` returns, with the
     /// `f` it used: for the shadow and mirror rays of a hit, which leave from
     /// `anchor + rel` (see [`Hit::anchor`](crate::Hit::anchor)). Cheaper, because a sphere
     /// certainly behind the ray (origin outside by more than the f32 error of `c`, `f·d ≥ 0`,
-    /// `tmin ≥ 0`) is rejected before `c` is finished. That spares the f64 `c` (software
-    /// floating point on a Cortex-M4F) for, say, the ground under a ball when the shadow ray
-    /// goes up.
+    /// `tmin ≥ 0`) is rejected before `c` is finished. That spares the compensated `c` (~100
+    /// instructions) for, say, the ground under a ball when the shadow ray goes up.
     ///
     /// ```
     /// # use microray::{Prepared, Sphere, Vec3};
@@ -283,11 +309,11 @@ impl Prepared {
 
     /// Whether the shadow ray from `anchor + rel` along `d` meets `sphere` at some
     /// `0 < t ≤ tmax`: `leaving_hit(anchor, rel, sphere, d, f32::MIN_POSITIVE, tmax).is_some()`,
-    /// without the root where the answer is clear. Where `leaving_hit` needs `c` in f64 (an
-    /// origin near the surface, typically a ground point next to a ball resting on it:
-    /// software floating point on a Cortex-M, ~1 400 instructions) the sign of Hearn–Baker's
-    /// discriminant, which does not use `c`, decides a clear miss, and for `tmax = ∞` a clear
-    /// hit too; only rays that graze the sphere within ~2⁻¹⁹ of its size pay for f64.
+    /// without the root where the answer is clear. Where `leaving_hit` needs the compensated
+    /// `c` (an origin near the surface, typically a ground point next to a ball resting on it)
+    /// the sign of Hearn–Baker's discriminant, which does not use `c`, decides a clear miss, and
+    /// for `tmax = ∞` a clear hit too; only rays that graze the sphere within ~2⁻¹⁹ of its size
+    /// pay for `c`.
     ///
     /// ```
     /// # use microray::{Prepared, Sphere, Vec3};
@@ -316,13 +342,30 @@ impl Prepared {
         any_hit: bool,
     ) -> Option<(f32, Vec3)> {
         let f = (anchor - sphere.center) + rel;
-        let r = sphere.radius;
+        Prepared::fused(f, sphere.radius, d, tmin, tmax, any_hit, || {
+            c_near(anchor, rel, sphere)
+        })
+    }
+
+    /// `Prepared { f, c, r }.hit(d, tmin, tmax)` with `c` finished by `exact` only where the
+    /// f32 value cancels and the answer is not clear without it (see `leaving_test`).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn fused(
+        f: Vec3,
+        r: f32,
+        d: Vec3,
+        tmin: f32,
+        tmax: f32,
+        any_hit: bool,
+        exact: impl FnOnce() -> f32,
+    ) -> Option<(f32, Vec3)> {
         let (ff, rr) = (f.dot(f), r * r);
         let c = ff - rr;
         let b = f.dot(d);
         // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f):
         // clear misses of the sphere's line (as in `hit_ab`, with that error too; most tests)
-        // and spheres certainly behind are decided before an f64 c.
+        // and spheres certainly behind are decided before the compensated c.
         let err_c = (ff + rr) * (1.0 / 1_048_576.0);
         let a = d.dot(d);
         let bb = b * b;
@@ -351,7 +394,7 @@ impl Prepared {
                     }
                 }
             }
-            c_f64_surface(anchor, rel, sphere) as f32
+            exact()
         };
         let k = Prepared { f, c, r };
         k.hit_ab(d, a, b, tmin, tmax).map(|t| (t, f))

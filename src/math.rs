@@ -244,6 +244,40 @@ pub fn finite(x: f32) -> bool {
     libm::fabsf(x) <= f32::MAX
 }
 
+/// `a + b` rounded, and the rounding error exactly: `a + b = s + e` (Knuth's TwoSum, which
+/// needs no ordering of `a` and `b`). Exact for finite inputs whose sum does not overflow.
+///
+/// ```
+/// use microray::math::two_sum;
+/// assert_eq!(two_sum(1.0, 1e-8), (1.0, 1e-8)); // the small addend survives in `e`
+/// ```
+#[inline(always)]
+pub fn two_sum(a: f32, b: f32) -> (f32, f32) {
+    let s = a + b;
+    let bv = s - a;
+    (s, (a - (s - bv)) + (b - bv))
+}
+
+/// `a²` rounded, and the rounding error exactly: `a² = p + e` (Dekker's product, with
+/// Veltkamp's split of `a` into two 12-bit halves whose products are exact). Plain f32
+/// operations rather than a fused multiply-add, which not every target has in hardware, so
+/// every target gets the same bits. Exact unless `|a| > 2¹¹⁵` (the split overflows: NaN) or
+/// the error is below the normal range (`|a| < 2⁻⁵¹`).
+///
+/// ```
+/// use microray::math::two_square;
+/// let (p, e) = two_square(4097.0); // 4097² = 16 785 409 needs 25 bits
+/// assert_eq!((p, e), (16_785_408.0, 1.0));
+/// ```
+#[inline(always)]
+pub fn two_square(a: f32) -> (f32, f32) {
+    let p = a * a;
+    let t = a * 4097.0; // 2¹² + 1
+    let hi = t - (t - a);
+    let lo = a - hi;
+    (p, ((hi * hi - p) + 2.0 * hi * lo) + lo * lo)
+}
+
 /// The correctly rounded square root.
 ///
 /// On Cortex-M4F/M7 (`thumbv7em-none-eabihf`) this is the `vsqrt.f32` instruction; elsewhere

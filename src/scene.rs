@@ -452,22 +452,21 @@ impl<const S: usize, const L: usize> Scene<S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn find_intersection(&self, ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
-        let mut best: Option<(f32, usize, Prepared)> = None;
+        let mut best: Option<(f32, usize, Vec3)> = None;
         let mut tmax = tmax;
         for (i, sphere) in self.spheres.iter().enumerate() {
-            let k = Prepared::new(ray.origin, sphere);
-            if let Some(t) = k.hit(ray.dir, tmin, tmax) {
+            if let Some((t, f)) = Prepared::ray_hit(ray, sphere, tmin, tmax) {
                 tmax = t;
-                best = Some((t, i, k));
+                best = Some((t, i, f));
             }
         }
-        best.map(|(t, i, k)| {
+        best.map(|(t, i, f)| {
             let near2 = self.near2(i);
             make_hit(
                 ray,
                 t,
                 i,
-                k.f,
+                f,
                 &self.spheres[i],
                 near2,
                 ray.origin,

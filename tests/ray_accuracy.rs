@@ -510,3 +510,105 @@ fn shadow_test_shortcut_agrees_with_the_full_test() {
     println!("{n} shadow tests, {hits} blocked, {near} origins where c needs f64");
     assert!(hits > n / 10 && hits < n * 9 / 10 && near > 100_000);
 }
+
+/// `x` as an integer multiple of 2⁻⁶⁰ (exact for the f32 values of the test below, all in
+/// [2⁻³⁵, 2²⁵), whose last bit is worth at least 2⁻⁵⁸).
+fn fixed(x: f32) -> i128 {
+    let v = x as f64 * (1u64 << 60) as f64;
+    assert!(
+        v.fract() == 0.0 && v.abs() < 2f64.powi(90),
+        "{x} out of the test's range"
+    );
+    v as i128
+}
+
+/// `c = |(base − m) + offset|² − r²` exactly (integers), as f64 (rounded once).
+fn exact_c(base: Vec3, offset: Vec3, s: &Sphere) -> f64 {
+    let m = s.center;
+    let f = [
+        fixed(base.x) - fixed(m.x) + fixed(offset.x),
+        fixed(base.y) - fixed(m.y) + fixed(offset.y),
+        fixed(base.z) - fixed(m.z) + fixed(offset.z),
+    ];
+    // Coordinates below 2⁸⁵ (of 2⁻⁶⁰): each square below 2¹⁷⁰ overflows i128, so square
+    // them in two halves.
+    let sq = |v: i128| -> (i128, i128) {
+        let (hi, lo) = (v >> 45, v & ((1 << 45) - 1));
+        // v² = hi² 2⁹⁰ + 2 hi lo 2⁴⁵ + lo², kept as (multiple of 2⁹⁰, remainder)
+        let mid = 2 * hi * lo;
+        let low = (mid & ((1 << 45) - 1)) * (1 << 45) + lo * lo;
+        (hi * hi + (mid >> 45) + (low >> 90), low & ((1 << 90) - 1))
+    };
+    let r = fixed(s.radius);
+    let mut acc = (0i128, 0i128);
+    for (v, sign) in [(f[0], 1), (f[1], 1), (f[2], 1), (r, -1)] {
+        let (h, l) = sq(v);
+        acc = (acc.0 + sign * h, acc.1 + sign * l);
+    }
+    // (h 2⁹⁰ + l) 2⁻¹²⁰
+    acc.0 as f64 * 2f64.powi(-30) + acc.1 as f64 * 2f64.powi(-120)
+}
+
+/// The compensated `c` of origins near a sphere (where the f32 `|f|² − r²` cancels), for a
+/// plain origin (`Prepared::new`) and for one given as a base and an offset
+/// (`Prepared::from_surface`, the shadow and mirror rays), against the exact value: within
+/// half an ulp of `c` plus 2⁻⁴⁴ (|f|² + r²) (the doc claims ~2⁻⁴⁵). The plain f32 value is
+/// checked to fail the same bound, so the test can tell the two apart.
+#[test]
+fn compensated_c_is_near_exact() {
+    let mut g = Rng(2024);
+    let (mut worst, mut plain_fails, mut n) = (0f64, 0, 0);
+    for k in 0..200_000 {
+        // Radii 1 … 10⁶, centres up to 10⁴ away, origins 10⁻⁷ … 10⁻¹ radii off the surface.
+        let radius = 10f64.powf(g.range(0.0, 6.0));
+        let centre = [0, 1, 2].map(|_| g.range(-1.0, 1.0) * 10f64.powf(g.range(0.0, 4.0)));
+        let n_hat = g.dir();
+        let height = radius * 10f64.powf(g.range(-7.0, -1.0)) * g.range(-1.0, 1.0).signum();
+        let s = Sphere::new(v32(centre), radius as f32);
+        let p = [0, 1, 2].map(|i| centre[i] + (radius + height) * n_hat[i]);
+        let (base, offset) = if k % 2 == 0 {
+            (v32(p), Vec3::ZERO)
+        } else {
+            // A base elsewhere (another sphere's centre, or the eye) and the offset to p.
+            let b = [0, 1, 2].map(|i| p[i] + g.range(-2.0, 2.0) * radius);
+            let b32 = v32(b);
+            (
+                b32,
+                v32([0, 1, 2].map(|i| p[i] - [b32.x, b32.y, b32.z][i] as f64)),
+            )
+        };
+        let k_new = if k % 2 == 0 {
+            Prepared::new(base, &s)
+        } else {
+            Prepared::from_surface(base, offset, &s)
+        };
+        let f = k_new.f;
+        let ff = (v64(f)[0].powi(2) + v64(f)[1].powi(2) + v64(f)[2].powi(2)) as f32;
+        let rr = s.radius * s.radius;
+        if (ff - rr).abs() > 0.5 * (ff + rr) {
+            continue; // f32 `c` is kept there: not this test's case
+        }
+        let exact = exact_c(base, offset, &s);
+        let scale = v64(f).iter().map(|x| x * x).sum::<f64>() + (s.radius as f64).powi(2);
+        let bound = 0.5 * common::reference::ulp32(exact) + scale * 2f64.powi(-44);
+        let err = (k_new.c as f64 - exact).abs();
+        let beyond = (err - 0.5 * common::reference::ulp32(exact)).max(0.0);
+        worst = worst.max(beyond / (scale * 2f64.powi(-45)));
+        n += 1;
+        assert!(
+            err <= bound,
+            "c {} exact {exact} ({} bounds) for {base:?} + {offset:?}, {s:?}",
+            k_new.c,
+            err / bound
+        );
+        if ((ff - rr) as f64 - exact).abs() > bound {
+            plain_fails += 1;
+        }
+    }
+    println!("{n} origins near the surface: worst error beyond c's own rounding {worst:.3} × 2⁻⁴⁵ (|f|² + r²); plain f32 c fails the bound on {plain_fails}");
+    assert!(n > 150_000, "only {n} cases near the surface");
+    assert!(
+        plain_fails > n / 2,
+        "the plain f32 c failed only {plain_fails} of {n}"
+    );
+}

@@ -6,7 +6,7 @@
 // `!(x >= 0.0)` is deliberate, as in the library: NaN must fail.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use microray::{Prepared, Sphere, Vec3};
+use microray::{ray_intersect, Prepared, Ray, Sphere, Vec3};
 
 // ---- the intersection variants ----------------------------------------------------------------
 
@@ -80,16 +80,25 @@ pub fn hearn_baker(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     hearn_baker_with(o, d, s, libm::sqrtf)
 }
 
-/// microray's default for a ray of its own origin (secondary rays): `Prepared::new` + `hit`.
+/// microray's default for a ray of its own origin (secondary rays): `ray_intersect`.
 #[inline]
 pub fn default_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
-    Prepared::new(o, s).hit(d, f32::MIN_POSITIVE, f32::INFINITY)
+    ray_intersect(&Ray::new(o, d), s, f32::MIN_POSITIVE, f32::INFINITY)
 }
 
-/// As above with `c` always through f64 (`Prepared::exact` per ray).
+/// The default's roots with `c` always through f64 (exact squares, one rounding of the sum):
+/// the remedy for huge spheres that microray used before its compensated f32 `c`.
 #[inline]
-pub fn exact_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
-    Prepared::exact(o, s).hit(d, f32::MIN_POSITIVE, f32::INFINITY)
+pub fn f64_c_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
+    let (m, r) = (s.center, s.radius as f64);
+    let [x, y, z] = [(o.x, m.x), (o.y, m.y), (o.z, m.z)].map(|(a, b)| a as f64 - b as f64);
+    let c = (x * x + y * y + z * z - r * r) as f32;
+    Prepared {
+        f: o - m,
+        c,
+        r: s.radius,
+    }
+    .hit(d, f32::MIN_POSITIVE, f32::INFINITY)
 }
 
 // ---- square roots ------------------------------------------------------------------------------

@@ -271,7 +271,7 @@ fn main() -> ! {
     c.report("primary_frame_constants", n, empty, || {
         primary_frame(dirs, prepared)
     });
-    p("primary_exact_per_ray", exact_per_ray);
+    p("primary_f64_c_per_ray", f64_c_per_ray);
 
     // Shadow-like rays.
     let n = rays.len() * (lit.len() - 1);
@@ -287,7 +287,7 @@ fn main() -> ! {
     p("shadow_geometric", geometric);
     p("shadow_hearn_baker", hearn_baker);
     p("shadow_default_per_ray", default_per_ray);
-    p("shadow_exact_per_ray", exact_per_ray);
+    p("shadow_f64_c_per_ray", f64_c_per_ray);
     let (lo, hi) = (f32::MIN_POSITIVE, f32::INFINITY);
     c.report("shadow_leaving_hit", n, empty, || {
         shadow(rays, lit, |_, anchor, rel, s, d| {
