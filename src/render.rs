@@ -166,6 +166,9 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     sweeps: [Sweep<S>; L],
     /// Shadows on and at least one light: the only case that casts shadow rays.
     shadow_rays: bool,
+    /// Every sphere's index: the candidate list of a shadow ray that must test them all, so
+    /// that every shadow ray walks a plain slice.
+    all: List<S>,
 }
 
 /// Sphere indices: a row's, a span's or a light's candidates.
@@ -235,6 +238,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             lights,
             sweeps,
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),
+            // Capacity S, at most S spheres (below `REST`, `FITS`): cannot fail.
+            all: (0..scene.spheres().len() as u16).collect(),
         })
     }
 
@@ -377,15 +382,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 scene.shadows() && {
                     let cs = self.light_consts(i, light);
                     let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
-                    // One iterator type for both cases: one copy of the shadow tests.
-                    let cands = lists.and_then(|l| l.light(i));
-                    let n = cands.map_or(scene.spheres().len(), |c| c.len());
-                    let pick = move |k: usize| match cands {
-                        // `k < c.len()`; an index past the scene would test nothing.
-                        Some(c) => c.get(k).map_or(usize::MAX, |&j| j as usize),
-                        None => k,
-                    };
-                    in_shadow_among(scene, hit, light, v, consts, (0..n).map(pick))
+                    // A slice in both cases: one copy of the shadow tests, and a tight loop.
+                    let cands = lists.and_then(|l| l.light(i)).unwrap_or(&self.all);
+                    let cands = cands.iter().map(|&j| j as usize);
+                    in_shadow_among(scene, hit, light, v, consts, cands)
                 }
             })
         })
