@@ -8,7 +8,9 @@
 # the "s" build end in `_s`. `instructions*` are QEMU -icount instruction counts measured with
 # SysTick, not cycles. Sizes come from the linked ELF (tools/elfsize.py); the panic check walks
 # the call graph of the disassembly (tools/panic_check.py). Exits non-zero when a CRC differs
-# from the one committed in src/scene.rs, the panic check fails, or (m4f) vsqrt.f32 is missing.
+# from the one committed in src/scene.rs, the panic check fails, (m4f) vsqrt.f32 is missing, or
+# a budget is broken: stack high-water (whole run and render passes) above 2 KiB on any build,
+# microray's flash above 16 KiB on the M4F's "s" build.
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
@@ -32,6 +34,13 @@ fi
 expected=$(sed -n 's/^pub const EXPECTED_CRC32: u32 = 0x\([0-9a-f]*\);/\1/p' src/scene.rs)
 fail=0
 
+within() { # $1 = key, $2 = measured value, $3 = budget; uses $suffix of the caller
+  if [ -z "$2" ] || [ "$2" -gt "$3" ]; then
+    echo "error$suffix=$1 ${2:-missing}, over the budget of $3 bytes"
+    fail=1
+  fi
+}
+
 run() { # $1 = cargo profile, $2 = key suffix
   local profile=$1 suffix=$2 out status
   cargo build --quiet --profile "$profile" --target "$target"
@@ -45,7 +54,15 @@ run() { # $1 = cargo profile, $2 = key suffix
   sed "s/^\([A-Za-z0-9_]*\)=/\1$suffix=/" <<<"$out"
   [ "$status" -eq 0 ] || { echo "error$suffix=qemu exit status $status"; fail=1; }
   grep -qx "crc32=$expected" <<<"$out" || { echo "error$suffix=crc32 differs from src/scene.rs ($expected)"; fail=1; }
-  python3 tools/elfsize.py "$elf" "$suffix"
+  local sizes
+  sizes=$(python3 tools/elfsize.py "$elf" "$suffix")
+  echo "$sizes"
+  # The budgets of issue #4, enforced: a change that breaks one fails here, not in a README.
+  within stack_bytes "$(sed -n 's/^stack_bytes=//p' <<<"$out")" 2048
+  within render_stack_bytes "$(sed -n 's/^render_stack_bytes=//p' <<<"$out")" 2048
+  if [ "$target" = thumbv7em-none-eabihf ] && [ "$profile" = release-s ]; then
+    within microray_flash_bytes "$(sed -n "s/^microray_flash_bytes$suffix=//p" <<<"$sizes")" 16384
+  fi
   python3 tools/panic_check.py "$elf" "$objdump" | sed "s/^\([A-Za-z0-9_]*\)=/\1$suffix=/" || {
     echo "error$suffix=panic reachable from the render path"; fail=1; }
   if [ "$target" = thumbv7em-none-eabihf ]; then
