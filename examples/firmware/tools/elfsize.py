@@ -11,7 +11,7 @@ Per crate (from the symbol table, FUNC and OBJECT symbols with their sizes):
   microray_flash_bytes / microray_ram_bytes: symbols whose mangled path is in crate `microray`
   libm_flash_bytes: symbols of crate `libm` (microray's float functions)
 Symbols are counted where the linker left them: code that LLVM inlined into a firmware function
-counts as firmware. Pure Python (no binutils needed); ELF32 little-endian only.
+counts as firmware here; tools/inlined.py measures that part of microray from the line table. Pure Python (no binutils needed); ELF32 little-endian only.
 """
 import struct
 import sys
