@@ -171,7 +171,8 @@ const CANCEL: f32 = 0.5;
 /// than `|f|` (a base far away for the sphere's size), `l`'s error grows with their ratio.
 ///
 /// f32 rather than f64, which is software on every Cortex-M (~1 000 instructions here against
-/// ~100), and plain f32 operations on every target, so every target computes the same bits.
+/// ~130), and plain f32 operations on every target, so every target computes the same bits.
+/// Where the squares overflow (|f| or r from ~1.8·10¹⁹) the result is not finite.
 // Out of line on Arm, where s16–s31 keep the caller's values across the call; inlined
 // elsewhere: x86-64 saves no float register across a call, so a call in a loop spills them.
 #[cfg_attr(target_arch = "arm", inline(never))]
@@ -212,8 +213,9 @@ impl Prepared {
     pub fn exact(origin: Vec3, sphere: &Sphere) -> Self {
         let (f, r) = (origin - sphere.center, sphere.radius);
         let c = c_near(origin, Vec3::ZERO, sphere);
-        // Beyond the range of `c_near` (|f| or r above ~10³⁴): the plain value, which is then
-        // infinite or NaN as `c` in f64 would be once rounded to f32.
+        // Where the squares overflow f32 (|f| or r from ~1.8·10¹⁹) `c_near` is not finite: the
+        // plain value then, infinite or NaN, as `c` in f64 would be once rounded to f32; the
+        // roots take their f64 path for it (`roots_f64`).
         let c = if finite(c) { c } else { f.dot(f) - r * r };
         Prepared { f, c, r }
     }

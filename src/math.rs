@@ -261,8 +261,8 @@ pub fn two_sum(a: f32, b: f32) -> (f32, f32) {
 /// `a²` rounded, and the rounding error exactly: `a² = p + e` (Dekker's product, with
 /// Veltkamp's split of `a` into two 12-bit halves whose products are exact). Plain f32
 /// operations rather than a fused multiply-add, which not every target has in hardware, so
-/// every target gets the same bits. Exact unless `|a| > 2¹¹⁵` (the split overflows: NaN) or
-/// the error is below the normal range (`|a| < 2⁻⁵¹`).
+/// every target gets the same bits. Exact unless `a²` overflows (`|a| ≥ 2⁶⁴`: `p` is ∞ and `e`
+/// not finite) or the error is below the normal range (`|a| < 2⁻⁵⁰`).
 ///
 /// ```
 /// use microray::math::two_square;

@@ -612,3 +612,32 @@ fn compensated_c_is_near_exact() {
         "the plain f32 c failed only {plain_fails} of {n}"
     );
 }
+
+/// The error-free transformations under `c_near` are exact: `s + e` is `a + b` and `p + e` is
+/// `a²` to the last bit (f64 holds both exactly), over magnitudes 2⁻⁵⁰ … 2⁶³ and either sign.
+#[test]
+fn two_sum_and_two_square_are_exact() {
+    use microray::math::{two_square, two_sum};
+    let mut g = Rng(77);
+    for _ in 0..1_000_000 {
+        let mag = |g: &mut Rng| {
+            let sign = if g.u() < 0.5 { -1.0 } else { 1.0 };
+            (sign * 2f64.powf(g.range(-50.0, 63.0))) as f32
+        };
+        let (a, b) = (mag(&mut g), mag(&mut g));
+        let (s, e) = two_sum(a, b);
+        // a + b needs at most 24 + 113 bits here, but the f64 sum of a and b is exact when
+        // their exponents are within 29 of each other; compare only then.
+        if (a.abs().log2() - b.abs().log2()).abs() < 29.0 {
+            assert_eq!(
+                s as f64 + e as f64,
+                a as f64 + b as f64,
+                "two_sum({a}, {b})"
+            );
+        }
+        assert_eq!(s, a + b);
+        let (p, e) = two_square(a);
+        assert_eq!(p, a * a);
+        assert_eq!(p as f64 + e as f64, a as f64 * a as f64, "two_square({a})");
+    }
+}
