@@ -178,6 +178,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Sphere indices are stored as `u16`, two values kept as markers.
     const FITS: () = assert!(S < REST as usize, "sphere capacity above 65533");
 
+    /// Whether shadow rays find their candidates through sorted sweeps, or test every sphere
+    /// against a span's bound: decided by the capacity, at compile time, so that a scene of a
+    /// few spheres (a microcontroller's) links none of the sweep code (sorting, `atan2f`),
+    /// where a scan of all its spheres per span costs about as much.
+    const SWEEPS: bool = S > 8;
+
     /// Prepares a frame; fails only for invalid options (`samples` outside 1..=16).
     ///
     /// ```
@@ -225,7 +231,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         });
         let axes = camera.basis();
         let sweeps = core::array::from_fn(|i| match scene.lights().get(i) {
-            Some(light) if scene.shadows() => Sweep::new(light, scene.spheres(), axes.0, axes.1),
+            Some(light) if scene.shadows() && Self::SWEEPS => {
+                Sweep::new(light, scene.spheres(), axes.0, axes.1)
+            }
             _ => Sweep::empty(),
         });
         Ok(Frame {
@@ -825,7 +833,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         }
                     }
                 };
-                match self.sweeps.get(li).and_then(|w| w.band(light, q, rho)) {
+                let band = match self.sweeps.get(li) {
+                    Some(w) if Self::SWEEPS => w.band(light, q, rho),
+                    _ => None,
+                };
+                match band {
                     // Only the spheres whose key is near the span's, and the wide ones.
                     Some((sweep, key, band, slack)) => {
                         for &s in sweep.wide() {

@@ -62,9 +62,11 @@ fn same<const S: usize, const L: usize>(
     }
 }
 
-fn random_scene(seed: u64) -> (Box<Scene<48, 4>>, Camera, RenderOptions) {
+/// A random stress scene of up to `min(S, 40)` spheres (capacity `S`: up to 8 renders without
+/// the shadow sweeps, `Frame::SWEEPS`).
+fn random_scene<const S: usize>(seed: u64) -> (Box<Scene<S, 4>>, Camera, RenderOptions) {
     let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
-    let mut scene: Box<Scene<48, 4>> = Box::new(Scene::new());
+    let mut scene: Box<Scene<S, 4>> = Box::new(Scene::new());
     scene
         .set_ambient(Color::splat(rng.range_f32(0.0, 0.2)))
         .unwrap();
@@ -73,7 +75,7 @@ fn random_scene(seed: u64) -> (Box<Scene<48, 4>>, Camera, RenderOptions) {
     scene.set_max_depth((rng.next() % 3) as u8).unwrap();
     let eye = rng.vec(6.0);
     let look = rng.vec(2.0);
-    let n = 1 + rng.next() % 40;
+    let n = 1 + rng.next() % (S as u64).min(40);
     for _ in 0..n {
         let kind = rng.next() % 10;
         let (c, r) = match kind {
@@ -161,7 +163,24 @@ fn accelerated_equals_brute_force_on_random_scenes() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(300);
     for seed in 0..seeds {
-        let (scene, camera, options) = random_scene(seed);
+        let (scene, camera, options) = random_scene::<48>(seed);
+        let result = std::panic::catch_unwind(|| same(&*scene, &camera, options));
+        if let Err(e) = result {
+            panic!("seed {seed}: {:?}", e.downcast_ref::<String>());
+        }
+    }
+}
+
+/// The same with a capacity of 8 spheres, which renders without the shadow sweeps: every
+/// sphere is weighed against each span's bound.
+#[test]
+fn accelerated_equals_brute_force_on_small_scenes() {
+    let seeds: u64 = std::env::var("MICRORAY_SEEDS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(300);
+    for seed in 0..seeds {
+        let (scene, camera, options) = random_scene::<8>(seed);
         let result = std::panic::catch_unwind(|| same(&*scene, &camera, options));
         if let Err(e) = result {
             panic!("seed {seed}: {:?}", e.downcast_ref::<String>());
