@@ -453,7 +453,7 @@ fn extreme_magnitudes_never_give_a_non_finite_hit() {
 
 /// The shadow test that decides clear cases without the root or the f64 `c`
 /// (`Prepared::leaving_blocks`) answers as the full test (`leaving_hit`) does, on rays from
-/// points near a sphere's surface (where the full test needs f64) in every direction: from a
+/// points near a sphere's surface (where the full test needs the compensated `c`) in every direction: from a
 /// ground point next to a ball resting on it, from inside, grazing, at radii 10⁻² … 10⁶ and
 /// 10⁴ from the origin.
 #[test]
@@ -507,7 +507,7 @@ fn shadow_test_shortcut_agrees_with_the_full_test() {
             hits += quick as usize;
         }
     }
-    println!("{n} shadow tests, {hits} blocked, {near} origins where c needs f64");
+    println!("{n} shadow tests, {hits} blocked, {near} origins where c needs compensating");
     assert!(hits > n / 10 && hits < n * 9 / 10 && near > 100_000);
 }
 
