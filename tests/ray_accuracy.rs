@@ -451,10 +451,10 @@ fn extreme_magnitudes_never_give_a_non_finite_hit() {
     assert!(hits > 100, "the test must exercise hits too");
 }
 
-/// The shadow test that decides clear cases without the root or the f64 `c`
+/// The shadow test that decides clear cases without the root or the compensated `c`
 /// (`Prepared::leaving_blocks`) answers as the full test (`leaving_hit`) does, on rays from
-/// points near a sphere's surface (where the full test needs the compensated `c`) in every direction: from a
-/// ground point next to a ball resting on it, from inside, grazing, at radii 10⁻² … 10⁶ and
+/// points near a sphere's surface (where the full test needs that `c`) in every direction: from
+/// a ground point next to a ball resting on it, from inside, grazing, at radii 10⁻² … 10⁶ and
 /// 10⁴ from the origin.
 #[test]
 fn shadow_test_shortcut_agrees_with_the_full_test() {
