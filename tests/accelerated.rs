@@ -156,14 +156,14 @@ fn random_scene<const S: usize>(seed: u64) -> (Box<Scene<S, 4>>, Camera, RenderO
     )
 }
 
-#[test]
-fn accelerated_equals_brute_force_on_random_scenes() {
+/// `random_scene::<S>` for seeds `0..MICRORAY_SEEDS` (300 by default), both ways.
+fn random_scenes_agree<const S: usize>() {
     let seeds: u64 = std::env::var("MICRORAY_SEEDS")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(300);
     for seed in 0..seeds {
-        let (scene, camera, options) = random_scene::<48>(seed);
+        let (scene, camera, options) = random_scene::<S>(seed);
         let result = std::panic::catch_unwind(|| same(&*scene, &camera, options));
         if let Err(e) = result {
             panic!("seed {seed}: {:?}", e.downcast_ref::<String>());
@@ -171,21 +171,16 @@ fn accelerated_equals_brute_force_on_random_scenes() {
     }
 }
 
+#[test]
+fn accelerated_equals_brute_force_on_random_scenes() {
+    random_scenes_agree::<48>();
+}
+
 /// The same with a capacity of 8 spheres, which renders without the shadow sweeps: every
 /// sphere is weighed against each span's bound.
 #[test]
 fn accelerated_equals_brute_force_on_small_scenes() {
-    let seeds: u64 = std::env::var("MICRORAY_SEEDS")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(300);
-    for seed in 0..seeds {
-        let (scene, camera, options) = random_scene::<8>(seed);
-        let result = std::panic::catch_unwind(|| same(&*scene, &camera, options));
-        if let Err(e) = result {
-            panic!("seed {seed}: {:?}", e.downcast_ref::<String>());
-        }
-    }
+    random_scenes_agree::<8>();
 }
 
 #[test]
