@@ -860,22 +860,22 @@ fn main() {
         Err(_) => m4f.cell("sqrt_libm_sqrtf"),
     };
     println!("| libm::sqrtf (host; microray uses vsqrt.f32 on M4F, same bits) | {:.2} | 1.00 | {:.2} | {:.3e} | {m4f_sqrt} |", sq_ns[0], sqrt_err(&libm::sqrtf), t_err(libm::sqrtf));
-    println!(
-        "| bit-trick rsqrt + 1 Newton step, × x | {:.2} | {:.2} | {:.0} | {:.3e} | {} |",
-        sq_ns[1],
-        sq_ns[1] / sq_ns[0],
-        sqrt_err(&|x| rsqrt_newton(x, 1)),
-        t_err(|x| rsqrt_newton(x, 1)),
-        m4f.cell("sqrt_rsqrt_newton1")
-    );
-    println!(
-        "| bit-trick rsqrt + 2 Newton steps, × x | {:.2} | {:.2} | {:.0} | {:.3e} | {} |",
-        sq_ns[2],
-        sq_ns[2] / sq_ns[0],
-        sqrt_err(&|x| rsqrt_newton(x, 2)),
-        t_err(|x| rsqrt_newton(x, 2)),
-        m4f.cell("sqrt_rsqrt_newton2")
-    );
+    let newton: [fn(f32) -> f32; 2] = [|x| rsqrt_newton(x, 1), |x| rsqrt_newton(x, 2)];
+    for (k, f) in (1..).zip(newton) {
+        let steps = if k == 1 {
+            "1 Newton step"
+        } else {
+            "2 Newton steps"
+        };
+        println!(
+            "| bit-trick rsqrt + {steps}, × x | {:.2} | {:.2} | {:.0} | {:.3e} | {} |",
+            sq_ns[k],
+            sq_ns[k] / sq_ns[0],
+            sqrt_err(&f),
+            t_err(f),
+            m4f.cell(&format!("sqrt_rsqrt_newton{k}"))
+        );
+    }
 
     // 3. Specular powers.
     let xs: Vec<f32> = (0..if quick { 10_000 } else { 100_000 })
