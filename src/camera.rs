@@ -137,6 +137,12 @@ impl Camera {
         (self.u, self.v, self.w)
     }
 
+    /// `[sx, ox, sy, oy]` of the image-plane coordinates `px = x·sx − ox`, `py = oy − y·sy` of
+    /// image point `(x, y)`, as [`Camera::direction`] computes them.
+    pub(crate) fn plane_map(&self) -> [f32; 4] {
+        [self.sx, self.ox, self.sy, self.oy]
+    }
+
     /// The unnormalised direction `w + px·u + py·v` through image point `(x, y)`.
     ///
     /// ```

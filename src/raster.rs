@@ -1,25 +1,34 @@
 //! Screen-space bounds of spheres: which pixels a primary ray can hit a sphere from, computed
 //! once per frame so that a pixel tests only the spheres whose bounds contain it.
 //!
-//! A ray from the eye along `d` meets a sphere (centre `m`, radius `r`, `F = m − e`) only if
-//! `(F·d)² ≥ |d|² (|F|² − r²)` and `F·d > 0`: `d` lies in the forward cone of directions towards
-//! the sphere. With `d = w + px·u + py·v` this is a conic in the image plane `(px, py)`; the
-//! bounding box of its part inside the screen is found from a handful of candidate points (the
-//! screen corners inside it, where its boundary crosses the screen edges, and its horizontal and
-//! vertical tangents), all in f64, once per sphere and frame.
+//! A ray from the eye meets a ball only if its projection onto the plane of the camera's
+//! forward axis and one screen axis meets the ball's projection there, a disc. The forward
+//! directions `(p, 1)` in that plane that meet a disc (centre `(a, z)` from the eye, radius
+//! `ρ < g = |(a, z)|`) lie between its two tangents, the centre's direction turned by
+//! `±asin(ρ/g)`: `(a h ± z ρ, z h ∓ a ρ)` with `h = √(g² − ρ²)`. That gives the sphere's range
+//! of `px` from the (right, forward) plane and of `py` from the (up, forward) plane; a tangent
+//! that points backwards leaves its side open. It is the exact bounding box of a sphere in
+//! front of the eye; for one that reaches behind it (a ground) the open sides are clamped to
+//! the screen. All in f32: a handful of operations per sphere and frame, and no software f64
+//! on a microcontroller.
 //!
 //! **Conservative by construction.** The f32 test [`Prepared::hit`](crate::Prepared::hit) is not
-//! the exact cone: it rounds. Rather than the exact cone we bound a slightly wider one, whose
-//! `|F|² − r²` is lowered by the worst rounding of the branch that `Prepared::roots` takes for
-//! this sphere (with a margin of about 70 ulp), and pad the box by a pixel each side. A sphere
-//! the f32 test can report as hit through a pixel is therefore always in that pixel's box, and
-//! the accelerated renderer computes exactly the pixels of the brute-force one (the
-//! `accelerated_equals_brute_force` test checks it on random scenes). Where the cone degenerates
-//! (the eye inside or within rounding of a sphere, coordinates near f32 overflow), the box is the
-//! whole screen: correct, only slower.
+//! exact: it reports hits for rays that pass within `ρ` of the centre, `ρ` slightly above `r`
+//! by the worst rounding of the branch that `Prepared::roots` takes for this sphere (`ETA`, with
+//! a margin of about 70 ulp). The disc used is wider still, by `2⁻¹⁴ ρ` and by `2⁻¹⁸ |F|`
+//! (`F` the centre from the eye): the rounding of the centre's camera coordinates and of the
+//! ray directions (a few ulp of `|F|`), and of the tangents themselves (a few ulp of angle,
+//! up to 2⁻¹⁰ of the margin where `g` is within 2⁻⁸ of `ρ`; nearer than that, the axis is left
+//! open). The box is then padded by a pixel each side. A sphere the f32 test can report as hit
+//! through a pixel is therefore always in that pixel's box, and the accelerated renderer
+//! computes exactly the pixels of the brute-force one (`tests/accelerated.rs` checks the boxes
+//! ray by ray, and whole images, on random scenes). Where the bound degenerates (the eye inside
+//! or within rounding of a sphere, coordinates near f32 overflow), the box is the whole screen:
+//! correct, only slower.
 
 use crate::camera::Camera;
 use crate::geometry::Prepared;
+use crate::math::{sqrt, Vec3};
 
 /// Relative rounding budget of the f32 intersection test, as a fraction of `|o − m|` (about 70
 /// ulp of f32; the test's own error is below 20 ulp).
@@ -87,54 +96,36 @@ impl PixelBox {
     }
 }
 
-/// The affine map between image coordinates `(x, y)` and image-plane coordinates `(px, py)` of
-/// a camera, and its basis, in f64.
+/// A camera's basis and its affine map between image coordinates `(x, y)` and image-plane
+/// coordinates `px = x·sx − ox`, `py = oy − y·sy`.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Screen {
-    u: [f64; 3],
-    v: [f64; 3],
-    w: [f64; 3],
-    /// `px = ax + bx·x`, `py = ay + by·y`.
-    ax: f64,
-    bx: f64,
-    ay: f64,
-    by: f64,
+    u: Vec3,
+    v: Vec3,
+    w: Vec3,
+    map: [f32; 4],
     width: u32,
     height: u32,
-}
-
-fn v64(v: crate::Vec3) -> [f64; 3] {
-    [v.x as f64, v.y as f64, v.z as f64]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    /// The largest `|(px, py, 1)|` on the screen, padded by two pixels.
+    dmax: f32,
 }
 
 impl Screen {
     pub(crate) fn new(camera: &Camera) -> Self {
         let (u, v, w) = camera.basis();
-        let (u, v, w) = (v64(u), v64(v), v64(w));
         let (width, height) = (camera.width(), camera.height());
-        // The camera's own f32 mapping, read back through `direction`: exact up to rounding,
-        // which the one-pixel padding of every box absorbs.
-        let plane = |x: f32, y: f32| {
-            let d = v64(camera.direction(x, y));
-            let d = [d[0] - w[0], d[1] - w[1], d[2] - w[2]];
-            (dot(d, u), dot(d, v))
-        };
-        let (px0, py0) = plane(0.0, 0.0);
-        let (px1, py1) = plane(width as f32, height as f32);
+        let map = camera.plane_map();
+        let [sx, ox, sy, oy] = map;
+        let xm = libm::fabsf(ox) + 2.0 * sx;
+        let ym = libm::fabsf(oy) + 2.0 * sy;
         Screen {
             u,
             v,
             w,
-            ax: px0,
-            bx: (px1 - px0) / width as f64,
-            ay: py0,
-            by: (py1 - py0) / height as f64,
+            map,
             width,
             height,
+            dmax: sqrt(xm * xm + ym * ym + 1.0),
         }
     }
 
@@ -149,182 +140,110 @@ impl Screen {
 
     /// The pixels through which a primary ray can hit the sphere of `k` (eye constants).
     pub(crate) fn sphere_box(&self, k: &Prepared) -> PixelBox {
-        let f = v64(k.f);
-        let fn2 = dot(f, f);
-        let fnorm = libm::sqrt(fn2);
-        let r = k.r as f64;
+        let (f, r) = (k.f, k.r);
+        let fn2 = f.dot(f);
+        let fnorm = sqrt(fn2);
         // Far from f32 overflow only; otherwise `roots` may take its f64 path: no bound.
         if !(fnorm < 1.0e15 && r < 1.0e15) {
             return self.full();
         }
-        let eta = ETA as f64;
-        // The branch that `Prepared::roots` takes for this origin and sphere, as it decides it.
-        let kk = if libm::fabsf(k.c) <= k.r * k.r {
-            // b² − a c: b errs by at most η|f||d|, c is the stored f32 value.
-            let c = k.c as f64;
-            if !(c > 0.0) {
+        // `kk`: a lower bound of (F·d)²/|d|² for the directions d that the test reports as hits
+        // (F = m − e), from the branch that `Prepared::roots` takes, as it decides it; `rho`:
+        // the radius of the ball whose cone holds them, √(|F|² − kk).
+        let (kk, rho) = if libm::fabsf(k.c) <= r * r {
+            // b² − a c: b errs by at most η|f||d|, c is the stored f32 value, a by a few ulp.
+            let c = k.c;
+            let s = sqrt(c * (1.0 - 1e-6)) - ETA * fnorm;
+            if !(c > 0.0 && s > 0.0) {
                 return self.full();
             }
-            let s = libm::sqrt(c * (1.0 - 1e-6)) - eta * fnorm;
-            if s > 0.0 {
-                s * s
-            } else {
-                0.0
-            }
+            let kk = s * s * (1.0 - 1e-6);
+            // No cancellation: |F|² ≤ 2r² here, kk ≤ r².
+            (kk, sqrt(fn2 - kk))
         } else {
             // Hearn–Baker: the distance of the centre from the line errs by at most η|f|.
-            let rr = r + eta * fnorm;
-            fn2 - rr * rr
+            let rr = r + ETA * fnorm;
+            ((fnorm - rr) * (fnorm + rr), rr)
         };
-        // |d|² of the f32 basis differs from px² + py² + 1 by a few ulp.
-        let kk = kk * (1.0 - 1e-6);
-        // The forward condition F·d ≥ −μ (the f32 sign of b can err by η|f||d|).
-        let (x0, x1) = (
-            self.ax - 2.0 * self.bx,
-            self.ax + (self.width as f64 + 2.0) * self.bx,
-        );
-        let (y0, y1) = (
-            self.ay - 2.0 * self.by,
-            self.ay + (self.height as f64 + 2.0) * self.by,
-        );
-        let (xlo, xhi) = (x0.min(x1), x0.max(x1));
-        let (ylo, yhi) = (y0.min(y1), y0.max(y1));
-        let xm = libm::fabs(xlo).max(libm::fabs(xhi));
-        let ym = libm::fabs(ylo).max(libm::fabs(yhi));
-        let dmax = libm::sqrt(xm * xm + ym * ym + 1.0);
-        let mu = 2.0 * eta * fnorm * dmax;
+        // The forward condition F·d > 0: the f32 sign of b can err by μ = η|f||d| (the test
+        // takes b < 0 from outside), so a ball that keeps F·d ≥ 2μ is safely in front.
+        let mu = 2.0 * ETA * fnorm * self.dmax;
         if !(kk > 4.0 * mu * mu) {
             return self.full();
         }
-        // F = m − e in camera coordinates.
-        let fc = [-dot(f, self.u), -dot(f, self.v), -dot(f, self.w)];
-        match conic_bounds(fc, kk, [xlo, xhi, ylo, yhi]) {
-            None => PixelBox::EMPTY,
-            Some([pxa, pxb, pya, pyb]) => {
-                let xa = (pxa - self.ax) / self.bx;
-                let xb = (pxb - self.ax) / self.bx;
-                let ya = (pya - self.ay) / self.by;
-                let yb = (pyb - self.ay) / self.by;
-                let clamp = |lo: f64, hi: f64, n: u32| {
-                    let a = libm::floor(lo.min(hi)) - 1.0;
-                    let b = libm::floor(lo.max(hi)) + 1.0;
-                    let last = (n - 1) as f64;
-                    if !(a <= last && b >= 0.0) {
-                        return None;
-                    }
-                    Some((a.max(0.0) as u16, b.min(last) as u16))
-                };
-                match (clamp(xa, xb, self.width), clamp(ya, yb, self.height)) {
-                    (Some((i0, i1)), Some((j0, j1))) => PixelBox { i0, i1, j0, j1 },
-                    _ => PixelBox::EMPTY,
-                }
-            }
-        }
-    }
-}
-
-/// Real roots of `a x² + b x + c` (a double root once), robust to cancellation.
-fn quadratic(a: f64, b: f64, c: f64) -> [Option<f64>; 2] {
-    if a == 0.0 {
-        return if b != 0.0 {
-            [Some(-c / b), None]
-        } else {
-            [None, None]
+        // F in camera coordinates.
+        let (fx, fy, fz) = (-f.dot(self.u), -f.dot(self.v), -f.dot(self.w));
+        let [sx, ox, sy, oy] = self.map;
+        let Some((pxa, pxb)) = tangents([fx, fz, fy], kk, rho, fnorm) else {
+            return PixelBox::EMPTY;
         };
-    }
-    let mut disc = b * b - 4.0 * a * c;
-    if disc < 0.0 {
-        // A tangent that rounding pushed below zero still counts.
-        if disc > -1e-12 * (b * b + libm::fabs(4.0 * a * c)) {
-            disc = 0.0;
-        } else {
-            return [None, None];
+        let Some((pya, pyb)) = tangents([fy, fz, fx], kk, rho, fnorm) else {
+            return PixelBox::EMPTY;
+        };
+        let x = pixels((pxa + ox) / sx, (pxb + ox) / sx, self.width);
+        // py grows upwards, rows downwards.
+        let y = pixels((oy - pyb) / sy, (oy - pya) / sy, self.height);
+        match (x, y) {
+            (Some((i0, i1)), Some((j0, j1))) => PixelBox { i0, i1, j0, j1 },
+            (None, _) | (_, None) => PixelBox::EMPTY,
         }
     }
-    let s = libm::sqrt(disc);
-    let q = -0.5 * if b >= 0.0 { b + s } else { b - s };
-    if q == 0.0 {
-        return [Some(0.0), None];
-    }
-    [Some(q / a), Some(c / q)]
 }
 
-/// The bounding box `[px_lo, px_hi, py_lo, py_hi]` of `{(px, py) in rect : Q ≥ 0, L > 0}` with
-/// `L = F·(px, py, 1)` and `Q = L² − k (px² + py² + 1)`, or `None` when it is empty. Requires
-/// `k > 0`; the forward half (`L > 0`) is then one nappe of the cone.
-fn conic_bounds(fc: [f64; 3], k: f64, rect: [f64; 4]) -> Option<[f64; 4]> {
-    let [fx, fy, fz] = fc;
-    let [xlo, xhi, ylo, yhi] = rect;
-    let lin = |px: f64, py: f64| fx * px + fy * py + fz;
-    let q = |px: f64, py: f64| {
-        let l = lin(px, py);
-        l * l - k * (px * px + py * py + 1.0)
+/// The range `[lo, hi]` of `p` over the forward directions `(p, 1)` in the plane of one screen
+/// axis that meet the ball's projection there, the disc of radius `rho` about `(a, z)`: an end
+/// is infinite where its tangent points backwards, and `None` when both do (the disc is behind
+/// the eye). `o` is the centre's third camera coordinate, `kk = |F|² − rho²`.
+///
+/// The tangents are the centre's direction turned by `±atan(rho/h)`, `h = √(g² − rho²)` the
+/// tangent's length (`g = |(a, z)|`). `h² = kk − o²`, not `g² − rho²`: `kk` comes accurate from
+/// the compensated `c`, while `g` and `rho` agree in most bits for a ground seen from nearby.
+/// The half-angle is widened by `δ`, which covers the rounding of the centre's direction (a few
+/// ulp of `|F|/g`), of the ray directions and of the tangents (a few ulp of angle), and of `h`
+/// (its first-order effect), each about 8 times over; where that is more than 2⁻⁸ radians, or
+/// the widened angle reaches a right angle, the whole axis is returned.
+fn tangents([a, z, o]: [f32; 3], kk: f32, rho: f32, fnorm: f32) -> Option<(f32, f32)> {
+    const ALL: (f32, f32) = (f32::NEG_INFINITY, f32::INFINITY);
+    let (g2, h2) = (a * a + z * z, kk - o * o);
+    if !(g2 > 0.0 && h2 > 0.0) {
+        return Some(ALL);
+    }
+    let h = sqrt(h2);
+    let delta = (1.0 + fnorm / sqrt(g2)) * (1.0 / 262_144.0)
+        + rho * (kk + o * o + libm::fabsf(o) * fnorm) * (1.0 / 1_048_576.0) / (g2 * h);
+    if !(delta < 1.0 / 256.0) {
+        return Some(ALL);
+    }
+    // (h, rho) turned by δ: tan of the half-angle plus δ.
+    let (rho, h) = (rho + h * delta, h - rho * delta);
+    if !(h > 0.0) {
+        return Some(ALL);
+    }
+    // The tangent directions, turned up (+) and down (−) from the centre's.
+    let (au, zu) = (a * h + z * rho, z * h - a * rho);
+    let (al, zl) = (a * h - z * rho, z * h + a * rho);
+    let (lo, hi) = match (zl > 0.0, zu > 0.0) {
+        (true, true) => (al / zl, au / zu),
+        (true, false) => (al / zl, f32::INFINITY),
+        (false, true) => (f32::NEG_INFINITY, au / zu),
+        // Both backwards: the disc, less than a half-turn wide from the eye, is behind it.
+        (false, false) => return None,
     };
-    let tol_x = 1e-9 * (xhi - xlo);
-    let tol_y = 1e-9 * (yhi - ylo);
-    let mut bb: Option<[f64; 4]> = None;
-    let mut add = |px: f64, py: f64| {
-        if !(px >= xlo - tol_x && px <= xhi + tol_x && py >= ylo - tol_y && py <= yhi + tol_y) {
-            return;
-        }
-        if !(lin(px, py) > 0.0) {
-            return;
-        }
-        let (px, py) = (px.max(xlo).min(xhi), py.max(ylo).min(yhi));
-        bb = Some(match bb {
-            None => [px, px, py, py],
-            Some([a, b, c, d]) => [a.min(px), b.max(px), c.min(py), d.max(py)],
-        });
-    };
-    // The cone's axis, always inside its forward nappe: keeps tiny, far spheres in.
-    if fz > 0.0 {
-        add(fx / fz, fy / fz);
+    // Tangents a few ulp of angle apart (a tiny disc) may come out swapped.
+    Some(if lo <= hi { (lo, hi) } else { (hi, lo) })
+}
+
+/// The pixels `[floor(lo) − 1, floor(hi) + 1]` of an axis of `n`, or `None` when none is on
+/// it; the whole axis if a bound is NaN. The saturating casts truncate towards zero, which is
+/// above floor only below zero, where the clamp decides the same.
+fn pixels(lo: f32, hi: f32, n: u32) -> Option<(u16, u16)> {
+    let last = n as i32 - 1;
+    if !(lo <= hi) {
+        return Some((0, last as u16));
     }
-    // Screen corners inside.
-    for &(px, py) in &[(xlo, ylo), (xlo, yhi), (xhi, ylo), (xhi, yhi)] {
-        if q(px, py) >= 0.0 {
-            add(px, py);
-        }
+    let (a, b) = ((lo as i32).saturating_sub(1), (hi as i32).saturating_add(1));
+    if a > last || b < 0 {
+        return None;
     }
-    // The conic's crossings of the horizontal edges (py fixed: quadratic in px) ...
-    for &py in &[ylo, yhi] {
-        let g = fy * py + fz;
-        for px in quadratic(fx * fx - k, 2.0 * fx * g, g * g - k * (py * py + 1.0))
-            .into_iter()
-            .flatten()
-        {
-            add(px, py);
-        }
-    }
-    // ... and of the vertical ones.
-    for &px in &[xlo, xhi] {
-        let h = fx * px + fz;
-        for py in quadratic(fy * fy - k, 2.0 * fy * h, h * h - k * (px * px + 1.0))
-            .into_iter()
-            .flatten()
-        {
-            add(px, py);
-        }
-    }
-    // Horizontal tangents (extreme py): the px-discriminant vanishes.
-    let a2 = fx * fx + fy * fy - k;
-    let (ax, ay) = (fx * fx - k, fy * fy - k);
-    if ax != 0.0 {
-        for py in quadratic(a2, 2.0 * fy * fz, fx * fx + fz * fz - k)
-            .into_iter()
-            .flatten()
-        {
-            add(-fx * (fy * py + fz) / ax, py);
-        }
-    }
-    // Vertical tangents (extreme px).
-    if ay != 0.0 {
-        for px in quadratic(a2, 2.0 * fx * fz, fy * fy + fz * fz - k)
-            .into_iter()
-            .flatten()
-        {
-            add(px, -fy * (fx * px + fz) / ay);
-        }
-    }
-    bb
+    Some((a.max(0) as u16, b.min(last) as u16))
 }

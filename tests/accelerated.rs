@@ -31,7 +31,9 @@ impl Draw for Rng {
 use common::rng::Rng;
 use embedded_graphics::pixelcolor::Rgb888;
 use microray::scene_file::{self, Desktop};
-use microray::{Camera, Color, Frame, Light, Material, RenderOptions, Scene, Sphere, Vec3};
+use microray::{
+    Camera, Color, Frame, Light, Material, Prepared, RenderOptions, Scene, Sphere, Vec3,
+};
 
 /// Renders with both paths and reports the first differing pixel.
 fn same<const S: usize, const L: usize>(
@@ -230,4 +232,108 @@ fn a_different_scene_is_detected() {
     a.render(&mut x).unwrap();
     b.render_rows_brute(0, &mut y).unwrap();
     assert!(x != y, "the two scenes rendered the same image");
+}
+
+/// Every primary ray that the f32 test reports as a hit passes through its sphere's screen box,
+/// ray by ray (one sample and a 3×3 grid per pixel), on spheres built to be hard to bound: tiny
+/// and far ones through fields of view down to 0.01°, grounds of radius up to 10⁶ just below
+/// the eye, spheres around, enclosing and grazing the eye, reaching behind it, and scenes
+/// 10⁴ from the origin.
+#[test]
+fn screen_boxes_hold_every_hit() {
+    let seeds: u64 = std::env::var("MICRORAY_SEEDS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(300);
+    let (mut hits, mut tested) = (0u64, 0u64);
+    for seed in 0..seeds {
+        let mut rng = Rng(seed.wrapping_mul(0xD1B5_4A32_D192_ED03) | 1);
+        let shift = if rng.next() % 4 == 0 {
+            rng.vec(1e4)
+        } else {
+            Vec3::ZERO
+        };
+        let eye = shift + rng.vec(5.0);
+        let look = shift + rng.vec(5.0);
+        let fov = libm::powf(10.0, rng.range_f32(-6.0, 2.23));
+        let up = rng.vec(1.0);
+        let (w, h) = (8 + (rng.next() % 40) as u32, 8 + (rng.next() % 40) as u32);
+        let Ok(camera) = Camera::new(eye, look, up, fov, w, h) else {
+            continue;
+        };
+        let mut scene: Box<Scene<24, 0>> = Box::new(Scene::new());
+        for _ in 0..24 {
+            // Towards a random image point, at a random distance.
+            let toward = camera
+                .direction(
+                    rng.range_f32(-0.5, w as f32 + 0.5),
+                    rng.range_f32(-0.5, h as f32 + 0.5),
+                )
+                .normalized()
+                .unwrap();
+            let dist = libm::powf(10.0, rng.range_f32(-1.0, 4.0));
+            let (c, r) = match rng.next() % 6 {
+                // Tiny to ordinary, anywhere from 0.1 to 10⁴ away, often just off the view.
+                0 | 1 => {
+                    let r = dist * libm::powf(10.0, rng.range_f32(-7.5, -0.5));
+                    let off = rng.vec(r * 2.0);
+                    (eye + toward * dist + off, r)
+                }
+                // A ground just below (or above) the eye.
+                2 => {
+                    let r = libm::powf(10.0, rng.range_f32(2.0, 6.0));
+                    let n = rng
+                        .vec(1.0)
+                        .normalized()
+                        .unwrap_or(Vec3::new(0.0, 1.0, 0.0));
+                    let gap = libm::powf(10.0, rng.range_f32(-3.0, 0.5));
+                    (eye - n * (r + gap), r)
+                }
+                // Around the eye: inside, outside, or within rounding of the surface.
+                3 => {
+                    let r = rng.range_f32(0.1, 5.0);
+                    let n = rng
+                        .vec(1.0)
+                        .normalized()
+                        .unwrap_or(Vec3::new(1.0, 0.0, 0.0));
+                    let k = [1.0, 1.0 + 1e-6, 1.0 - 1e-6, rng.range_f32(0.5, 2.0)];
+                    (eye + n * (r * k[(rng.next() % 4) as usize]), r)
+                }
+                // Beside the eye and reaching behind it.
+                4 => {
+                    let r = rng.range_f32(1.0, 50.0);
+                    (eye + rng.vec(1.0) * (r * 1.5), r)
+                }
+                _ => (eye + toward * dist, dist * rng.range_f32(0.01, 0.9)),
+            };
+            scene
+                .add_sphere(Sphere::new(c, r), Material::default())
+                .unwrap();
+        }
+        let frame = Frame::new(&*scene, &camera, RenderOptions::default()).unwrap();
+        for (s, sphere) in scene.spheres().iter().enumerate() {
+            let k = Prepared::exact(camera.eye(), sphere);
+            let b = frame.boxes()[s];
+            for j in 0..h {
+                for i in 0..w {
+                    let rays = (0..9)
+                        .map(|q| camera.view_ray(i, j, q % 3, q / 3, 3))
+                        .chain([camera.view_ray(i, j, 0, 0, 1)]);
+                    for ray in rays {
+                        tested += 1;
+                        if k.hit(ray.dir, f32::MIN_POSITIVE, f32::INFINITY).is_some() {
+                            hits += 1;
+                            assert!(
+                                b.contains(i, j),
+                                "seed {seed}: sphere {s} ({sphere:?}) hit through pixel \
+                                 ({i}, {j}) outside its box {b:?}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // The test has something to check: a good share of the rays hit.
+    assert!(hits * 20 > tested, "{hits} hits of {tested} rays");
 }
