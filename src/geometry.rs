@@ -21,8 +21,9 @@
 //! Two more losses come after the root, and are answered here too:
 //!
 //! 4. **The hit's offset from the centre** (the normal times r): `f + t·d` loses the low bits
-//!    of r when `|f| ≫ r`, even with t exact. [`hit_point`] recomputes it in f64 from 16 radii
-//!    away (from 2048 for dull materials, whose shading the lost bits do not reach).
+//!    of r when `|f| ≫ r`, even with t exact. [`hit_point`] recomputes it from exact products
+//!    from 16 radii away (from 2048 for dull materials, whose shading the lost bits do not
+//!    reach).
 //! 5. **Rays leaving a hit far from the origin**: the hit point rounded to f32 is off by half an
 //!    ulp of its coordinates (5·10⁻⁴ at 10⁴). Shadow and mirror rays therefore take `f` for
 //!    another sphere as `(anchor − m) + rel`: the hit's centre and offset, or the eye and the
@@ -30,12 +31,12 @@
 //!    `anchor − m` is exact or nearly, so the error scales with the scene's size, not with its
 //!    distance from the origin: a scene moved by an exact vector renders the same bits.
 //!
-//! Everything else stays in f32; f64 is only the fallback (far hit offsets, squares beyond the
-//! f32 range), and it is IEEE-exact on every target (soft-float included), so a
-//! microcontroller still computes the host's bits.
+//! All of it is f32, in plain IEEE operations (no fused multiply-add, no f64, which is software
+//! on a Cortex-M): every target, soft-float included, computes the host's bits. Inputs whose
+//! squares overflow f32 are scaled by powers of two first, which is exact.
 //! docs/numerics.md measures what each of these costs and buys.
 
-use crate::math::{finite, sqrt, two_square, two_sum, Vec3};
+use crate::math::{finite, sqrt, two_product, two_square, two_sum, Vec3};
 
 /// A ray `origin + t·dir`; `dir` need not be unit length.
 ///
@@ -214,8 +215,8 @@ impl Prepared {
         let (f, r) = (origin - sphere.center, sphere.radius);
         let c = c_near(origin, Vec3::ZERO, sphere);
         // Where the squares overflow f32 (|f| or r from ~1.8·10¹⁹) `c_near` is not finite: the
-        // plain value then, infinite or NaN, as `c` in f64 would be once rounded to f32; the
-        // roots take their f64 path for it (`roots_f64`).
+        // plain value then, infinite or NaN, for which the roots take their scaled path
+        // (`roots_scaled`).
         let c = if finite(c) { c } else { f.dot(f) - r * r };
         Prepared { f, c, r }
     }
@@ -444,7 +445,7 @@ impl Prepared {
             if disc < 0.0 && finite(disc) {
                 return None;
             }
-            return select(roots_f64(f, d, r)?, tmin, tmax);
+            return select(roots_scaled(f, d, r)?, tmin, tmax);
         }
         let s = sqrt(disc);
         let q = if b > 0.0 { -(b + s) } else { s - b };
@@ -471,6 +472,17 @@ impl Prepared {
     /// ```
     #[inline]
     pub fn roots(&self, d: Vec3) -> Option<(f32, f32)> {
+        self.roots_or(d, roots_scaled)
+    }
+
+    /// [`Prepared::roots`], with `overflow(f, d, r)` for inputs whose squares leave the f32
+    /// range.
+    #[inline]
+    fn roots_or(
+        &self,
+        d: Vec3,
+        overflow: impl FnOnce(Vec3, Vec3, f32) -> Option<(f32, f32)>,
+    ) -> Option<(f32, f32)> {
         let f = self.f;
         let (a, b, c, r) = (d.dot(d), f.dot(d), self.c, self.r);
         // Where the origin is within ~0.4 r of the surface (|c| ≤ r²), b² − a c does not
@@ -482,7 +494,7 @@ impl Prepared {
             a * (r * r - l.dot(l))
         };
         if !(a.is_finite() && b.is_finite() && c.is_finite() && disc.is_finite()) {
-            return roots_f64(f, d, r);
+            return overflow(f, d, r);
         }
         if !(disc >= 0.0) {
             return None;
@@ -526,28 +538,39 @@ fn select((near, far): (f32, f32), tmin: f32, tmax: f32) -> Option<f32> {
     }
 }
 
-/// The same roots, all in f64: for inputs whose squares overflow f32 (centres near 10¹⁹).
+/// The same roots for inputs whose squares overflow f32 (centres or radii from ~10¹⁹, a huge
+/// `d`): `f` and `r` scaled by one power of two and `d` by another, so that `max(|f|, r)` is
+/// near 2²⁰ and `|d|` near 1. Scaling by powers of two is exact, and so is scaling the roots
+/// back (`t` of `(σf, τd, σr)` is `σ/τ` times that of `(f, d, r)`) unless it leaves the f32
+/// range: the roots are those of the f32 path, exactly scaled, and no f64 is needed (software
+/// on a Cortex-M). `None` for non-finite inputs or a zero `d`.
 #[cold]
-fn roots_f64(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
-    let f = [f.x as f64, f.y as f64, f.z as f64];
-    let d = [d.x as f64, d.y as f64, d.z as f64];
-    let r = r as f64;
-    let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
-    let (a, b) = (dot(d, d), dot(f, d));
-    let c = dot(f, f) - r * r;
-    let k = b / a;
-    let l = [f[0] - k * d[0], f[1] - k * d[1], f[2] - k * d[2]];
-    let disc = a * (r * r - dot(l, l));
-    if !(disc >= 0.0) || !disc.is_finite() || !c.is_finite() || !(a > 0.0) {
+fn roots_scaled(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
+    let m = f.max_abs();
+    let (m, n) = (if r > m { r } else { m }, d.max_abs());
+    if !(finite(m) && finite(n) && n > 0.0 && r >= 0.0) {
         return None;
     }
-    let s = libm::sqrt(disc);
-    let q = if b > 0.0 { -(b + s) } else { s - b };
-    if q == 0.0 {
-        return Some((0.0, 0.0));
-    }
-    let (t0, t1) = ((c / q) as f32, (q / a) as f32);
-    Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+    // 2^k for k clamped to the normal range; `e` the unbiased exponent of a normal x (a
+    // subnormal counts as 2⁻¹²⁷: its scale is then clamped anyway).
+    let pow2 = |k: i32| f32::from_bits(((k.clamp(-126, 127) + 127) as u32) << 23);
+    let e = |x: f32| ((x.to_bits() >> 23) & 0xff) as i32 - 127;
+    let (sigma, tau) = (pow2(20 - e(m)), pow2(-e(n)));
+    let (f, d, r) = (f * sigma, d * tau, r * sigma);
+    let origin = Sphere {
+        center: Vec3::ZERO,
+        radius: r,
+    };
+    // `c_near` of f itself (the centre at 0): compensated, as for any origin.
+    let k = Prepared {
+        f,
+        c: c_near(f, Vec3::ZERO, &origin),
+        r,
+    };
+    // Finite now: no second fallback (and no recursion).
+    let (t0, t1) = k.roots_or(d, |_, _, _| None)?;
+    let back = |t: f32| t * tau / sigma;
+    Some((back(t0), back(t1)))
 }
 
 /// Where a ray that hit `sphere` at parameter `t` meets it: the point and the point's offset from
@@ -556,9 +579,11 @@ fn roots_f64(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
 ///
 /// `f + t·d` loses the offset's low bits when the sphere is small for its distance (|f| ≫ r):
 /// with `t` right to half an ulp, a sphere of radius 10⁻⁴ seen from 10 units would still get
-/// normals wrong by 1%. From 16 radii away the offset is therefore recomputed in f64 from the
-/// foot of the perpendicular from the centre to the ray, `l = f − (b/a) d`, which f64 gets to
-/// ~10⁻¹⁶ |f|, and the point as `centre + offset`. Nearer, `f + t·d` is good to a few ulp of r.
+/// normals wrong by 1%. From 16 radii away the offset is therefore recomputed from the foot of
+/// the perpendicular from the centre to the ray, `l = f − (b/a) d`, with the cancellation done
+/// in exact products (good to ~2⁻⁴⁸ |f|), and the point as `centre + offset`: within 4.5 ulp of
+/// r, measured out to 10⁵ radii. Nearer, `f + t·d` errs by a few ulp of |f| (up to 47 ulp of r
+/// at 16 radii).
 ///
 /// ```
 /// use microray::geometry::hit_point;
@@ -593,34 +618,49 @@ pub(crate) fn hit_point_within(
     if ff <= near2 * (r * r) {
         return (ray.at(t), f + d * t);
     }
-    hit_point_f64(ray.dir, t, f, sphere).unwrap_or((ray.at(t), f + d * t))
+    hit_point_far(ray.dir, t, f, sphere).unwrap_or((ray.at(t), f + d * t))
 }
 
+/// [`hit_point`] from afar: the offset as `l ± s·d`, with `l = f − (b/a) d` the foot of the
+/// perpendicular from the centre and `s = √((r² − |l|²)/a)`, the sign that of the root that `t`
+/// approximates (`−b/a ∓ s`). `l` is computed as `d × (f × d) / a`: the cross product `f × d`
+/// is where the cancellation is (f nearly along d, |l| ≪ |f|), so each of its components is
+/// taken from exact products ([`two_product`]), whose difference is then exact or nearly (good
+/// to ~2⁻⁴⁸ |f||d| where the plain one errs by 2⁻²⁴ |f||d|); `d × w` and the divide do not
+/// cancel. `r² − |l|²` comes from exact squares, as `c` does (`c_near`). All in f32: f64 would
+/// do as well, but it is software on a Cortex-M.
 #[cold]
-fn hit_point_f64(d: Vec3, t: f32, f: Vec3, sphere: &Sphere) -> Option<(Vec3, Vec3)> {
-    let v = |p: Vec3| [p.x as f64, p.y as f64, p.z as f64];
-    let dot = |u: [f64; 3], w: [f64; 3]| u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
-    let (f, d, m) = (v(f), v(d), v(sphere.center));
-    let r = sphere.radius as f64;
-    let a = dot(d, d);
-    let k = dot(f, d) / a;
-    let l = [f[0] - k * d[0], f[1] - k * d[1], f[2] - k * d[2]];
-    let h2 = r * r - dot(l, l);
-    let s = libm::sqrt(if h2 > 0.0 { h2 / a } else { 0.0 });
+fn hit_point_far(d: Vec3, t: f32, f: Vec3, sphere: &Sphere) -> Option<(Vec3, Vec3)> {
+    // a·b − c·e, from the exact products.
+    let diff = |a: f32, b: f32, c: f32, e: f32| {
+        let ((p, pe), (q, qe)) = (two_product(a, b), two_product(c, e));
+        (p - q) + (pe - qe)
+    };
+    let w = Vec3::new(
+        diff(f.y, d.z, f.z, d.y),
+        diff(f.z, d.x, f.x, d.z),
+        diff(f.x, d.y, f.y, d.x),
+    );
+    let a = d.dot(d);
+    let l = d.cross(w) / a;
+    let (mut big, mut small) = two_square(sphere.radius);
+    for x in [l.x, l.y, l.z] {
+        let (p, e) = two_square(x);
+        let (sum, err) = two_sum(big, -p);
+        big = sum;
+        small += err - e;
+    }
+    let h2 = big + small;
+    let s = sqrt(if h2 > 0.0 { h2 / a } else { 0.0 });
     // The roots are −k ∓ s; the hit is the one that `t` approximates.
-    let t = t as f64;
-    let s = if libm::fabs(t - (-k - s)) <= libm::fabs(t - (-k + s)) {
+    let k = f.dot(d) / a;
+    let s = if libm::fabsf(t - (-k - s)) <= libm::fabsf(t - (-k + s)) {
         -s
     } else {
         s
     };
-    let off = [l[0] + s * d[0], l[1] + s * d[1], l[2] + s * d[2]];
-    let offset = Vec3::new(off[0] as f32, off[1] as f32, off[2] as f32);
-    let point = Vec3::new(
-        (m[0] + off[0]) as f32,
-        (m[1] + off[1]) as f32,
-        (m[2] + off[2]) as f32,
-    );
+    let offset = l + d * s;
+    let point = sphere.center + offset;
     if offset.is_finite() && point.is_finite() {
         Some((point, offset))
     } else {

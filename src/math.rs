@@ -258,6 +258,15 @@ pub fn two_sum(a: f32, b: f32) -> (f32, f32) {
     (s, (a - (s - bv)) + (b - bv))
 }
 
+/// Veltkamp's split: `a = hi + lo` with halves of at most 12 significant bits, whose products
+/// are exact in f32.
+#[inline(always)]
+fn split(a: f32) -> (f32, f32) {
+    let t = a * 4097.0; // 2¹² + 1
+    let hi = t - (t - a);
+    (hi, a - hi)
+}
+
 /// `a²` rounded, and the rounding error exactly: `a² = p + e` (Dekker's product, with
 /// Veltkamp's split of `a` into two 12-bit halves whose products are exact). Plain f32
 /// operations rather than a fused multiply-add, which not every target has in hardware, so
@@ -272,10 +281,24 @@ pub fn two_sum(a: f32, b: f32) -> (f32, f32) {
 #[inline(always)]
 pub fn two_square(a: f32) -> (f32, f32) {
     let p = a * a;
-    let t = a * 4097.0; // 2¹² + 1
-    let hi = t - (t - a);
-    let lo = a - hi;
+    let (hi, lo) = split(a);
     (p, ((hi * hi - p) + 2.0 * hi * lo) + lo * lo)
+}
+
+/// `a·b` rounded, and the rounding error exactly: `a·b = p + e` ([`two_square`]'s method for
+/// two factors). Exact unless the product overflows or its error is below the normal range.
+///
+/// ```
+/// use microray::math::two_product;
+/// let (p, e) = two_product(4097.0, 4095.0); // 16 777 215 = 2²⁴ − 1 fits; 4097·4097 does not
+/// assert_eq!((p, e), (16_777_215.0, 0.0));
+/// assert_eq!(two_product(4097.0, 4097.0), (16_785_408.0, 1.0));
+/// ```
+#[inline(always)]
+pub fn two_product(a: f32, b: f32) -> (f32, f32) {
+    let p = a * b;
+    let ((ah, al), (bh, bl)) = (split(a), split(b));
+    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
 }
 
 /// The correctly rounded square root.
