@@ -627,30 +627,23 @@ pub(crate) fn hit_point_within(
 /// is where the cancellation is (f nearly along d, |l| ≪ |f|), so each of its components is
 /// taken from exact products ([`two_product`]), whose difference is then exact or nearly (good
 /// to ~2⁻⁴⁸ |f||d| where the plain one errs by 2⁻²⁴ |f||d|); `d × w` and the divide do not
-/// cancel. `r² − |l|²` comes from exact squares, as `c` does (`c_near`). All in f32: f64 would
+/// cancel. `r² − |l|²` is `c_near`'s (exact squares). All in f32: f64 would
 /// do as well, but it is software on a Cortex-M.
 #[cold]
 fn hit_point_far(d: Vec3, t: f32, f: Vec3, sphere: &Sphere) -> Option<(Vec3, Vec3)> {
-    // a·b − c·e, from the exact products.
-    let diff = |a: f32, b: f32, c: f32, e: f32| {
-        let ((p, pe), (q, qe)) = (two_product(a, b), two_product(c, e));
-        (p - q) + (pe - qe)
-    };
     let w = Vec3::new(
-        diff(f.y, d.z, f.z, d.y),
-        diff(f.z, d.x, f.x, d.z),
-        diff(f.x, d.y, f.y, d.x),
+        product_difference(f.y, d.z, f.z, d.y),
+        product_difference(f.z, d.x, f.x, d.z),
+        product_difference(f.x, d.y, f.y, d.x),
     );
     let a = d.dot(d);
     let l = d.cross(w) / a;
-    let (mut big, mut small) = two_square(sphere.radius);
-    for x in [l.x, l.y, l.z] {
-        let (p, e) = two_square(x);
-        let (sum, err) = two_sum(big, -p);
-        big = sum;
-        small += err - e;
-    }
-    let h2 = big + small;
+    // r² − |l|², the `c` of the origin l for the sphere about 0.
+    let centred = Sphere {
+        center: Vec3::ZERO,
+        radius: sphere.radius,
+    };
+    let h2 = -c_near(l, Vec3::ZERO, &centred);
     let s = sqrt(if h2 > 0.0 { h2 / a } else { 0.0 });
     // The roots are −k ∓ s; the hit is the one that `t` approximates.
     let k = f.dot(d) / a;
@@ -666,6 +659,14 @@ fn hit_point_far(d: Vec3, t: f32, f: Vec3, sphere: &Sphere) -> Option<(Vec3, Vec
     } else {
         None
     }
+}
+
+/// `a·b − c·e` from the exact products: exact or nearly where the two agree in most bits.
+/// Out of line: one copy for the three components of a cold path.
+#[inline(never)]
+fn product_difference(a: f32, b: f32, c: f32, e: f32) -> f32 {
+    let ((p, pe), (q, qe)) = (two_product(a, b), two_product(c, e));
+    (p - q) + (pe - qe)
 }
 
 /// For a ray that starts on the surface of a sphere (`f = o − m` with `|f| = r`): the
