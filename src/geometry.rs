@@ -472,17 +472,13 @@ impl Prepared {
     /// ```
     #[inline]
     pub fn roots(&self, d: Vec3) -> Option<(f32, f32)> {
-        self.roots_or(d, roots_scaled)
+        self.roots_or::<true>(d)
     }
 
-    /// [`Prepared::roots`], with `overflow(f, d, r)` for inputs whose squares leave the f32
-    /// range.
+    /// [`Prepared::roots`]; with `CHECKED` false, for inputs known to be in range
+    /// (`roots_scaled`'s), without the overflow check and fallback.
     #[inline]
-    fn roots_or(
-        &self,
-        d: Vec3,
-        overflow: impl FnOnce(Vec3, Vec3, f32) -> Option<(f32, f32)>,
-    ) -> Option<(f32, f32)> {
+    fn roots_or<const CHECKED: bool>(&self, d: Vec3) -> Option<(f32, f32)> {
         let f = self.f;
         let (a, b, c, r) = (d.dot(d), f.dot(d), self.c, self.r);
         // Where the origin is within ~0.4 r of the surface (|c| ≤ r²), b² − a c does not
@@ -493,8 +489,8 @@ impl Prepared {
             let l = f - d * (b / a);
             a * (r * r - l.dot(l))
         };
-        if !(a.is_finite() && b.is_finite() && c.is_finite() && disc.is_finite()) {
-            return overflow(f, d, r);
+        if CHECKED && !(a.is_finite() && b.is_finite() && c.is_finite() && disc.is_finite()) {
+            return roots_scaled(f, d, r);
         }
         if !(disc >= 0.0) {
             return None;
@@ -568,7 +564,7 @@ fn roots_scaled(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
         r,
     };
     // Finite now: no second fallback (and no recursion).
-    let (t0, t1) = k.roots_or(d, |_, _, _| None)?;
+    let (t0, t1) = k.roots_or::<false>(d)?;
     let back = |t: f32| t * tau / sigma;
     Some((back(t0), back(t1)))
 }

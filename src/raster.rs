@@ -235,7 +235,9 @@ fn tangents([a, z, o]: [f32; 3], kk: f32, rho: f32, fnorm: f32) -> Option<(f32, 
 
 /// The pixels `[floor(lo) − 1, floor(hi) + 1]` of an axis of `n`, or `None` when none is on
 /// it; the whole axis if a bound is NaN. The saturating casts truncate towards zero, which is
-/// above floor only below zero, where the clamp decides the same.
+/// above floor only below zero, where the clamp decides the same. Out of line: one copy for
+/// both axes (set-up code, where flash counts more than a call).
+#[inline(never)]
 fn pixels(lo: f32, hi: f32, n: u32) -> Option<(u16, u16)> {
     let last = n as i32 - 1;
     if !(lo <= hi) {
