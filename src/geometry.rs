@@ -547,12 +547,12 @@ fn roots_scaled(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
     if !(finite(m) && finite(n) && n > 0.0 && r >= 0.0) {
         return None;
     }
-    // 2^k for k clamped to the normal range; `e` the unbiased exponent of a normal x (a
-    // subnormal counts as 2⁻¹²⁷: its scale is then clamped anyway).
-    let pow2 = |k: i32| f32::from_bits(((k.clamp(-126, 127) + 127) as u32) << 23);
+    // `e` the unbiased exponent of a normal x (a subnormal counts as 2⁻¹²⁷); `pow2(k)` = 2^k for
+    // |k| ≤ 126, so that the scales and both halves of the way back are normal numbers.
     let e = |x: f32| ((x.to_bits() >> 23) & 0xff) as i32 - 127;
-    let (sigma, tau) = (pow2(20 - e(m)), pow2(-e(n)));
-    let (f, d, r) = (f * sigma, d * tau, r * sigma);
+    let pow2 = |k: i32| f32::from_bits(((k + 127) as u32) << 23);
+    let (ks, kt) = ((20 - e(m)).clamp(-126, 126), (-e(n)).clamp(-126, 126));
+    let (f, d, r) = (f * pow2(ks), d * pow2(kt), r * pow2(ks));
     let origin = Sphere {
         center: Vec3::ZERO,
         radius: r,
@@ -565,7 +565,10 @@ fn roots_scaled(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
     };
     // Finite now: no second fallback (and no recursion).
     let (t0, t1) = k.roots_or::<false>(d)?;
-    let back = |t: f32| t * tau / sigma;
+    // t·2^(kt − ks) in two steps of the same sign, neither of which leaves the range on its
+    // own: exact unless the result does.
+    let k = kt - ks;
+    let back = |t: f32| t * pow2(k / 2) * pow2(k - k / 2);
     Some((back(t0), back(t1)))
 }
 

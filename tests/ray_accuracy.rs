@@ -318,6 +318,14 @@ fn overflowing_magnitudes_are_the_in_range_roots_scaled() {
         let both = Prepared::exact(o_small, &small).roots(d_small);
         assert_eq!(got, scaled, "{o:?} {d:?} {s:?}");
         assert_eq!(got, both, "{o:?} {d:?} {s:?}");
+        // A direction 2⁶⁰ times longer (|d| near 10³⁸) or 2¹⁰⁰ times shorter: the roots scale
+        // back exactly.
+        let p60 = 1_152_921_504_606_846_976.0f32; // 2⁶⁰
+        let p100 = 1_267_650_600_228_229_401_496_703_205_376.0f32; // 2¹⁰⁰
+        let longer = Prepared::exact(o, &s).roots(d * p60);
+        let shorter = Prepared::exact(o, &s).roots(d / p100);
+        assert_eq!(longer.map(|(a, b)| (a * p60, b * p60)), got);
+        assert_eq!(shorter.map(|(a, b)| (a / p100, b / p100)), got);
         n += 1;
         hits += got.is_some() as usize;
     }
