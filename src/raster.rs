@@ -15,16 +15,17 @@
 //! **Conservative by construction.** The f32 test [`Prepared::hit`](crate::Prepared::hit) is not
 //! exact: it reports hits for rays that pass within `ρ` of the centre, `ρ` slightly above `r`
 //! by the worst rounding of the branch that `Prepared::roots` takes for this sphere (`ETA`, with
-//! a margin of about 70 ulp). The disc used is wider still, by `2⁻¹⁴ ρ` and by `2⁻¹⁸ |F|`
-//! (`F` the centre from the eye): the rounding of the centre's camera coordinates and of the
-//! ray directions (a few ulp of `|F|`), and of the tangents themselves (a few ulp of angle,
-//! up to 2⁻¹⁰ of the margin where `g` is within 2⁻⁸ of `ρ`; nearer than that, the axis is left
-//! open). The box is then padded by a pixel each side. A sphere the f32 test can report as hit
-//! through a pixel is therefore always in that pixel's box, and the accelerated renderer
-//! computes exactly the pixels of the brute-force one (`tests/accelerated.rs` checks the boxes
-//! ray by ray, and whole images, on random scenes). Where the bound degenerates (the eye inside
-//! or within rounding of a sphere, coordinates near f32 overflow), the box is the whole screen:
-//! correct, only slower.
+//! a margin of about 70 ulp). `h²` is taken as `|F|² − ρ² − o²` (`o` the third camera
+//! coordinate) from the compensated `c`, not as `g² − ρ²`, which cancels for a ground seen from
+//! nearby. The tangents' half-angle is then widened by a `δ` that covers, about 8 times over,
+//! the rounding of the centre's camera coordinates and of the ray directions (a few ulp of
+//! `|F|/g`), of the tangents (a few ulp of angle) and of `h` (see `tangents`); where `δ` passes
+//! 2⁻⁸ radians or the widened angle reaches a right angle, that axis is left open. The box is
+//! then padded by a pixel each side. A sphere the f32 test can report as hit through a pixel is
+//! therefore always in that pixel's box, and the accelerated renderer computes exactly the pixels
+//! of the brute-force one (`tests/accelerated.rs` checks the boxes ray by ray, and whole images,
+//! on random scenes). Where the bound degenerates (the eye inside or within rounding of a
+//! sphere, coordinates near f32 overflow), the box is the whole screen: correct, only slower.
 
 use crate::camera::Camera;
 use crate::geometry::Prepared;
