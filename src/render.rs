@@ -752,35 +752,34 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             // none needs building.
             cull.hit_s.fill(NONE);
             cull.stored = true;
-        } else if self.samples == 1 {
-            for (k, i) in (i0..i1).enumerate() {
-                let ray = self.camera.view_ray(i, j, 0, 0, 1);
-                let h = self.primary_among(&ray, i, &cull.span);
-                if let Some((t, s)) = h {
-                    // The point of `make_hit`, without the rest of the hit record.
-                    if let (Some(k), Some(sphere)) = (self.eye.get(s), spheres.get(s)) {
-                        let near2 = self.scene.near2(s);
-                        extend(s, hit_point_within(&ray, t, k.f, sphere, near2).0);
-                    }
-                    // Only a hit is shaded with its ray.
-                    if let Some(d) = cull.hit_d.get_mut(k) {
-                        *d = ray.dir;
-                    }
-                }
-                if let (Some(t), Some(s)) = (cull.hit_t.get_mut(k), cull.hit_s.get_mut(k)) {
-                    (*t, *s) = h.map_or((0.0, NONE), |(t, s)| (t, s as u16));
-                }
-            }
-            cull.stored = true;
         } else {
-            for i in i0..i1 {
-                let _ = self.average(i, j, |ray| {
-                    if let Some(h) = self.primary_hit_among(ray, i, &cull.span) {
-                        extend(h.sphere, h.point());
+            // Every sample's hit joins the bounds; the one sample of a pixel, when there is
+            // only one, is also kept for shading (with several, each pixel's slots end up
+            // holding its last sample, unused). One loop for both: half the code.
+            let n = self.samples;
+            for (k, i) in (i0..i1).enumerate() {
+                for sy in 0..n {
+                    for sx in 0..n {
+                        let ray = self.camera.view_ray(i, j, sx, sy, n);
+                        let h = self.primary_among(&ray, i, &cull.span);
+                        if let Some((t, s)) = h {
+                            // The point of `make_hit`, without the rest of the hit record.
+                            if let (Some(e), Some(sphere)) = (self.eye.get(s), spheres.get(s)) {
+                                let near2 = self.scene.near2(s);
+                                extend(s, hit_point_within(&ray, t, e.f, sphere, near2).0);
+                            }
+                            // Only a hit is shaded with its ray.
+                            if let Some(d) = cull.hit_d.get_mut(k) {
+                                *d = ray.dir;
+                            }
+                        }
+                        if let (Some(t), Some(s)) = (cull.hit_t.get_mut(k), cull.hit_s.get_mut(k)) {
+                            (*t, *s) = h.map_or((0.0, NONE), |(t, s)| (t, s as u16));
+                        }
                     }
-                    Color::ZERO
-                });
+                }
             }
+            cull.stored = n == 1;
         }
         cull.culled = true;
         cull.pool.clear();
