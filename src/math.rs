@@ -62,6 +62,20 @@ impl Vec3 {
         Vec3 { x: v, y: v, z: v }
     }
 
+    /// Whether all three components are zero (of either sign): `self == Vec3::ZERO`, NaN
+    /// included (never zero), as integer tests on the bits, which cost a third of three float
+    /// comparisons on a Cortex-M4F. The shading asks it of every hit's material.
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// assert!(Vec3::new(0.0, -0.0, 0.0).is_zero());
+    /// assert!(!Vec3::new(0.0, 1e-45, 0.0).is_zero() && !Vec3::splat(f32::NAN).is_zero());
+    /// ```
+    #[inline]
+    pub fn is_zero(self) -> bool {
+        (self.x.to_bits() | self.y.to_bits() | self.z.to_bits()) << 1 == 0
+    }
+
     /// The dot product.
     ///
     /// ```

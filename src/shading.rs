@@ -188,7 +188,7 @@ pub(crate) fn shade_lit<const S: usize, const L: usize>(
     };
     let n = hit.normal;
     let mut colour = m.diffuse.mul_elem(scene.ambient());
-    let has_specular = m.specular != Color::ZERO;
+    let has_specular = !m.specular.is_zero();
     // Only a highlight needs the view vector (and only when there is a light).
     let v = if has_specular && !scene.lights().is_empty() {
         -dir.normalize_fast()
@@ -331,7 +331,7 @@ pub(crate) fn follow<const S: usize, const L: usize>(
         .materials()
         .get(h.sphere)
         .map_or(Color::ZERO, |m| m.mirror);
-    if km == Color::ZERO || scene.max_depth() == 0 {
+    if km.is_zero() || scene.max_depth() == 0 {
         return colour;
     }
     bounce(scene, primary, &h, colour, km, &mut local)
@@ -361,7 +361,7 @@ fn bounce<const S: usize, const L: usize>(
             .materials()
             .get(h.sphere)
             .map_or(Color::ZERO, |m| m.mirror);
-        if km == Color::ZERO || depth >= scene.max_depth() {
+        if km.is_zero() || depth >= scene.max_depth() {
             return colour;
         }
         weight = weight.mul_elem(km);
