@@ -186,10 +186,17 @@ impl Camera {
     /// ```
     #[inline]
     pub fn view_ray(&self, i: u32, j: u32, sx: u32, sy: u32, samples: u32) -> Ray {
-        let n = samples as f32;
         self.ray(
-            i as f32 + (sx as f32 + 0.5) / n,
-            j as f32 + (sy as f32 + 0.5) / n,
+            i as f32 + sample_offset(sx, samples),
+            j as f32 + sample_offset(sy, samples),
         )
     }
+}
+
+/// The offset `(s + 0.5)/samples` of sample `s` of `samples` along one axis of a pixel, as
+/// [`Camera::view_ray`] adds it to the pixel's corner: for loops that hoist it out of their
+/// pixels.
+#[inline]
+pub(crate) fn sample_offset(s: u32, samples: u32) -> f32 {
+    (s as f32 + 0.5) / samples as f32
 }

@@ -33,7 +33,7 @@
 
 use embedded_graphics::pixelcolor::Rgb888;
 
-use crate::camera::Camera;
+use crate::camera::{sample_offset, Camera};
 use crate::error::Error;
 use crate::geometry::{hit_point_within, Prepared, Ray};
 use crate::math::{powf, Color, Vec3};
@@ -755,12 +755,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         } else {
             // Every sample's hit joins the bounds; the one sample of a pixel, when there is
             // only one, is also kept for shading (with several, each pixel's slots end up
-            // holding its last sample, unused). One loop for both: half the code.
+            // holding its last sample, unused). One loop for both, pixels innermost so that
+            // the sample's offsets (the divides of `Camera::view_ray`) are hoisted.
             let n = self.samples;
-            for (k, i) in (i0..i1).enumerate() {
-                for sy in 0..n {
-                    for sx in 0..n {
-                        let ray = self.camera.view_ray(i, j, sx, sy, n);
+            for sy in 0..n {
+                let y = j as f32 + sample_offset(sy, n);
+                for sx in 0..n {
+                    let ox = sample_offset(sx, n);
+                    for (k, i) in (i0..i1).enumerate() {
+                        // `view_ray(i, j, sx, sy, n)`, the same bits.
+                        let ray = self.camera.ray(i as f32 + ox, y);
                         let h = self.primary_among(&ray, i, &cull.span);
                         if let Some((t, s)) = h {
                             // The point of `make_hit`, without the rest of the hit record.
