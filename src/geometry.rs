@@ -598,8 +598,12 @@ fn roots_scaled(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
 /// ```
 #[inline]
 pub fn hit_point(ray: &Ray, t: f32, f: Vec3, sphere: &Sphere) -> (Vec3, Vec3) {
-    hit_point_within(ray, t, f, sphere, 256.0)
+    hit_point_within(ray, t, f, sphere, NEAR2_MIN)
 }
+
+/// `(distance/radius)²` within which [`hit_point`] keeps `f + t·d`: 16 radii, the least any
+/// material gets (`scene::near2`).
+pub(crate) const NEAR2_MIN: f32 = 256.0;
 
 /// [`hit_point`] with f32 up to `√near2` radii away instead of 16: the renderer's choice per
 /// material (`scene::near2`), which a diffuse or dull sphere lets go much farther.

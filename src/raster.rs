@@ -144,7 +144,8 @@ impl Screen {
         let (f, r) = (k.f, k.r);
         let fn2 = f.dot(f);
         let fnorm = sqrt(fn2);
-        // Far from f32 overflow only; otherwise `roots` may take its f64 path: no bound.
+        // Far from f32 overflow only; otherwise `roots` may take its scaled path (`roots_scaled`):
+        // no bound.
         if !(fnorm < 1.0e15 && r < 1.0e15) {
             return self.full();
         }

@@ -3,7 +3,7 @@
 //! Every value is checked when it is added, so the render path never meets an invalid scene.
 
 use crate::error::Error;
-use crate::geometry::{hit_point_within, Prepared, Ray, Sphere};
+use crate::geometry::{hit_point_within, Prepared, Ray, Sphere, NEAR2_MIN};
 use crate::math::{Color, Vec3};
 
 /// How a sphere reflects light.
@@ -177,12 +177,9 @@ impl<const S: usize, const L: usize> Default for Scene<S, L> {
     }
 }
 
-/// [`near2`] at its smallest: f32 hit offsets within 16 radii.
-const NEAR2_MIN: f32 = 256.0;
-
-/// `(distance/radius)²` from the ray origin up to which `f + t·d` in f32 gives a hit offset
-/// accurate enough for material `m`; beyond it [`hit_point`](crate::geometry::hit_point)
-/// recomputes it in f64 (software on a Cortex-M, hundreds of instructions a hit).
+/// `(distance/radius)²` from the ray origin up to which `f + t·d` gives a hit offset accurate
+/// enough for material `m`; beyond it [`hit_point`](crate::geometry::hit_point) recomputes it
+/// from exact products (`hit_point_far`: a few times the cost, so only where it pays).
 ///
 /// The f32 offset is off by ~4ε·distance, which turns the normal by ~4ε·distance/radius: a
 /// diffuse term moves by that much, a highlight of shininess s by s times that. 2048/(1 + s)
