@@ -212,7 +212,9 @@ fn timing_set(n: usize) -> (Vec3, Vec<Vec3>, Vec<Sphere>) {
 
 // Every variant is inlined into its own copy of the loop (generic `f`), as a renderer would
 // inline it: called through a pointer, each paid the call and the passing of two `Vec3`s,
-// whose cost swung by 2× with unrelated changes of code layout.
+// whose cost swung by 2× with unrelated changes of code layout. Each copy is a function of its
+// own rather than part of `main`, where one variant's change moved the others' times.
+#[inline(never)]
 fn sum_hits(
     eye: Vec3,
     dirs: &[Vec3],
@@ -234,6 +236,7 @@ fn sum_hits(
 /// The sum of the hits' t of shadow-like rays `(origin, direction, sphere left)`; the sphere a
 /// ray leaves is not intersected (microray uses its exit root). Inlined per variant, as
 /// `sum_hits`.
+#[inline(never)]
 fn sum_shadow_rays(
     rays: &[(Vec3, Vec3, usize)],
     spheres: &[Sphere],
@@ -244,6 +247,43 @@ fn sum_shadow_rays(
         for (j, s) in spheres.iter().enumerate() {
             if j != from {
                 if let Some(t) = f(o, d, s) {
+                    acc += t;
+                }
+            }
+        }
+    }
+    acc
+}
+
+/// [`sum_hits`] with per-frame constants: `Prepared::hit` of every direction and sphere.
+#[inline(never)]
+fn sum_prepared(dirs: &[Vec3], prepared: &[Prepared]) -> f32 {
+    let mut acc = 0.0;
+    for &d in dirs {
+        for k in prepared {
+            if let Some(t) = black_box(k).hit(d, f32::MIN_POSITIVE, f32::INFINITY) {
+                acc += t;
+            }
+        }
+    }
+    acc
+}
+
+/// [`sum_shadow_rays`] for microray's own secondary rays, which leave from the centre `base` of
+/// the sphere left and the hit's `offset` from it (as a `Hit` has them).
+#[inline(never)]
+fn sum_leaving(
+    rays: &[(Vec3, Vec3, usize)],
+    spheres: &[Sphere],
+    f: impl Fn(Vec3, Vec3, Vec3, &Sphere) -> Option<f32>,
+) -> f32 {
+    let mut acc = 0.0;
+    for &(o, d, from) in rays {
+        let base = spheres[from].center;
+        let offset = o - base;
+        for (j, s) in spheres.iter().enumerate() {
+            if j != from {
+                if let Some(t) = f(base, offset, d, s) {
                     acc += t;
                 }
             }
@@ -576,19 +616,12 @@ fn main() {
     let mut f_lecture = || sum_hits(eye, &dirs, &spheres, lecture);
     let mut f_geometric = || sum_hits(eye, &dirs, &spheres, geometric);
     let mut f_hb = || sum_hits(eye, &dirs, &spheres, hearn_baker);
-    let mut f_default = || sum_hits(eye, &dirs, &spheres, default_per_ray);
+    // A closure, not the fn item: the item's `Fn::call` shim was left out of line (the loop then
+    // passed every ray through memory), which the other variants, smaller, escape.
+    #[allow(clippy::redundant_closure)]
+    let mut f_default = || sum_hits(eye, &dirs, &spheres, |o, d, s| default_per_ray(o, d, s));
     let mut f_f64_c_per_ray = || sum_hits(eye, &dirs, &spheres, f64_c_per_ray);
-    let mut f_frame = || {
-        let mut acc = 0.0;
-        for &d in &dirs {
-            for k in &prepared {
-                if let Some(t) = black_box(k).hit(d, f32::MIN_POSITIVE, f32::INFINITY) {
-                    acc += t;
-                }
-            }
-        }
-        acc
-    };
+    let mut f_frame = || sum_prepared(&dirs, &prepared);
     fs.push(&mut f_lecture);
     fs.push(&mut f_geometric);
     fs.push(&mut f_hb);
@@ -608,40 +641,18 @@ fn main() {
         })
         .collect();
     // microray's shading: Prepared::leaving_hit (from the hit's centre and offset, the sphere
-    // skipped when certainly behind)
+    // skipped when certainly behind) ...
     let sum_shading = || {
-        let mut acc = 0.0;
-        for &(o, d, from) in &shadow_rays {
-            let base = lit_spheres[from].center;
-            let offset = o - base;
-            for (j, s) in lit_spheres.iter().enumerate() {
-                if j != from {
-                    let (lo, hi) = (f32::MIN_POSITIVE, f32::INFINITY);
-                    if let Some((t, _)) =
-                        Prepared::leaving_hit(black_box(base), offset, s, d, lo, hi)
-                    {
-                        acc += t;
-                    }
-                }
-            }
-        }
-        acc
+        sum_leaving(&shadow_rays, &lit_spheres, |base, offset, d, s| {
+            let (lo, hi) = (f32::MIN_POSITIVE, f32::INFINITY);
+            Prepared::leaving_hit(base, offset, s, d, lo, hi).map(|(t, _)| t)
+        })
     };
     // ... and as it tests shadow rays: any hit, no root (Prepared::leaving_blocks)
     let sum_blocks = || {
-        let mut acc = 0.0;
-        for &(o, d, from) in &shadow_rays {
-            let base = lit_spheres[from].center;
-            let offset = o - base;
-            for (j, s) in lit_spheres.iter().enumerate() {
-                if j != from
-                    && Prepared::leaving_blocks(black_box(base), offset, s, d, f32::INFINITY)
-                {
-                    acc += 1.0;
-                }
-            }
-        }
-        acc
+        sum_leaving(&shadow_rays, &lit_spheres, |base, offset, d, s| {
+            Prepared::leaving_blocks(base, offset, s, d, f32::INFINITY).then_some(1.0)
+        })
     };
     let shadow_items = shadow_rays.len() * (lit_spheres.len() - 1);
     let ns2 = time_all(
@@ -651,7 +662,11 @@ fn main() {
             &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, lecture),
             &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, geometric),
             &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, hearn_baker),
-            &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, default_per_ray),
+            &mut || {
+                sum_shadow_rays(&shadow_rays, &lit_spheres, |o, d, s| {
+                    default_per_ray(o, d, s)
+                })
+            },
             &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, f64_c_per_ray),
             &mut || sum_shading(),
             &mut || sum_blocks(),

@@ -445,7 +445,7 @@ impl Prepared {
             if disc < 0.0 && finite(disc) {
                 return None;
             }
-            return select(roots_scaled(f, d, r)?, tmin, tmax);
+            return select(roots_scaled(f.x, f.y, f.z, d.x, d.y, d.z, r)?, tmin, tmax);
         }
         let s = sqrt(disc);
         let q = if b > 0.0 { -(b + s) } else { s - b };
@@ -490,7 +490,7 @@ impl Prepared {
             a * (r * r - l.dot(l))
         };
         if CHECKED && !(a.is_finite() && b.is_finite() && c.is_finite() && disc.is_finite()) {
-            return roots_scaled(f, d, r);
+            return roots_scaled(f.x, f.y, f.z, d.x, d.y, d.z, r);
         }
         if !(disc >= 0.0) {
             return None;
@@ -540,8 +540,23 @@ fn select((near, far): (f32, f32), tmin: f32, tmax: f32) -> Option<f32> {
 /// back (`t` of `(σf, τd, σr)` is `σ/τ` times that of `(f, d, r)`) unless it leaves the f32
 /// range: the roots are those of the f32 path, exactly scaled, and no f64 is needed (software
 /// on a Cortex-M). `None` for non-finite inputs or a zero `d`.
+///
+/// Scalar arguments, not `Vec3`s: an aggregate goes to a call by address, and for that the hot
+/// paths that call this (inlined in ray loops) kept `f` and `d` in memory, storing and reloading
+/// them in every test (on x86 a store-forwarding stall each; `ray_intersect` cost 3.5× the
+/// lecture's formula per test instead of 1.5×).
 #[cold]
-fn roots_scaled(f: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
+#[inline(never)]
+fn roots_scaled(
+    fx: f32,
+    fy: f32,
+    fz: f32,
+    dx: f32,
+    dy: f32,
+    dz: f32,
+    r: f32,
+) -> Option<(f32, f32)> {
+    let (f, d) = (Vec3::new(fx, fy, fz), Vec3::new(dx, dy, dz));
     let m = f.max_abs();
     let (m, n) = (if r > m { r } else { m }, d.max_abs());
     if !(finite(m) && finite(n) && n > 0.0 && r >= 0.0) {

@@ -11,7 +11,7 @@ use microray::{ray_intersect, Prepared, Ray, Sphere, Vec3};
 // ---- the intersection variants ----------------------------------------------------------------
 
 /// The lecture's formula: `(−b ± √(b² − 4ac)) / 2a` with `b = 2 f·d`.
-#[inline]
+#[inline(always)]
 pub fn lecture(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     let f = o - s.center;
     let a = d.dot(d);
@@ -32,7 +32,7 @@ pub fn lecture(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
 
 /// The geometric form: `t_m ± Δt` with `t_m` the projection of the centre on the ray and
 /// `Δt² = r² − (|f|² − t_m²)` (unit `d`).
-#[inline]
+#[inline(always)]
 pub fn geometric(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     let f = s.center - o;
     let tm = f.dot(d);
@@ -75,20 +75,20 @@ pub fn hearn_baker_with(o: Vec3, d: Vec3, s: &Sphere, sqrt: impl Fn(f32) -> f32)
     }
 }
 
-#[inline]
+#[inline(always)]
 pub fn hearn_baker(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     hearn_baker_with(o, d, s, libm::sqrtf)
 }
 
 /// microray's default for a ray of its own origin (secondary rays): `ray_intersect`.
-#[inline]
+#[inline(always)]
 pub fn default_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     ray_intersect(&Ray::new(o, d), s, f32::MIN_POSITIVE, f32::INFINITY)
 }
 
 /// The default's roots with `c` always through f64 (exact squares, one rounding of the sum):
 /// the remedy for huge spheres that microray used before its compensated f32 `c`.
-#[inline]
+#[inline(always)]
 pub fn f64_c_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     let (m, r) = (s.center, s.radius as f64);
     let [x, y, z] = [(o.x, m.x), (o.y, m.y), (o.z, m.z)].map(|(a, b)| a as f64 - b as f64);
