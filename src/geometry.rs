@@ -174,13 +174,37 @@ const CANCEL: f32 = 0.5;
 /// f32 rather than f64, which is software on every Cortex-M (~1 000 instructions here against
 /// ~130), and plain f32 operations on every target, so every target computes the same bits.
 /// Where the squares overflow (|f| or r from ~1.8·10¹⁹) the result is not finite.
-// Out of line on Arm, where s16–s31 keep the caller's values across the call; inlined
-// elsewhere: x86-64 saves no float register across a call, so a call in a loop spills them.
-#[cfg_attr(target_arch = "arm", inline(never))]
-#[cfg_attr(not(target_arch = "arm"), inline(always))]
+#[inline(always)]
 fn c_near(base: Vec3, offset: Vec3, sphere: &Sphere) -> f32 {
-    let m = sphere.center;
-    let (pr, er) = two_square(sphere.radius);
+    let (b, o, m) = (base, offset, sphere.center);
+    c_near_xyz(b.x, b.y, b.z, o.x, o.y, o.z, m.x, m.y, m.z, sphere.radius)
+}
+
+/// [`c_near`] on the coordinates of base, offset and centre. Out of line on Arm, where s16–s31 keep the
+/// caller's values across the call; inlined elsewhere: x86-64 saves no float register across a
+/// call, so a call in a loop spills them. Scalars, not `Vec3`s (nor an array): an aggregate
+/// goes to a call by address, and callers then kept it in memory for every test, not only for
+/// the few that call this.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn c_near_xyz(
+    bx: f32,
+    by: f32,
+    bz: f32,
+    ox: f32,
+    oy: f32,
+    oz: f32,
+    mx: f32,
+    my: f32,
+    mz: f32,
+    radius: f32,
+) -> f32 {
+    let (base, offset, m) = (
+        Vec3::new(bx, by, bz),
+        Vec3::new(ox, oy, oz),
+        Vec3::new(mx, my, mz),
+    );
+    let (pr, er) = two_square(radius);
     // `big` the rounded sum of the squares; `small` every error term, each ~2⁻²⁴ of the total.
     let (mut big, mut small) = (-pr, -er);
     // A loop, not three copies: flash is scarce, and at opt-level 3 LLVM unrolls it anyway.
@@ -275,10 +299,8 @@ impl Prepared {
     /// clear miss decided before `c` is finished (see `fused`): [`ray_intersect`].
     #[inline]
     pub(crate) fn ray_hit(ray: &Ray, sphere: &Sphere, tmin: f32, tmax: f32) -> Option<(f32, Vec3)> {
-        let (o, m, r) = (ray.origin, sphere.center, sphere.radius);
-        Prepared::fused(o - m, r, ray.dir, tmin, tmax, false, || {
-            c_near(o, Vec3::ZERO, sphere)
-        })
+        let (o, m) = (ray.origin, sphere.center);
+        Prepared::fused(o - m, ray.dir, tmin, tmax, false, (o, Vec3::ZERO, sphere))
     }
 
     /// What `Prepared::from_surface(anchor, rel, sphere).hit(d, tmin, tmax)` returns, with the
@@ -345,24 +367,22 @@ impl Prepared {
         any_hit: bool,
     ) -> Option<(f32, Vec3)> {
         let f = (anchor - sphere.center) + rel;
-        Prepared::fused(f, sphere.radius, d, tmin, tmax, any_hit, || {
-            c_near(anchor, rel, sphere)
-        })
+        Prepared::fused(f, d, tmin, tmax, any_hit, (anchor, rel, sphere))
     }
 
-    /// `Prepared { f, c, r }.hit(d, tmin, tmax)` with `c` finished by `exact` only where the
-    /// f32 value cancels and the answer is not clear without it (see `leaving_test`).
+    /// `Prepared { f, c, r }.hit(d, tmin, tmax)` for the origin `base + offset` and `sphere`
+    /// (`f` their difference), with the compensated `c` only where the f32 value cancels and
+    /// the answer is not clear without it (see `leaving_test`).
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
     fn fused(
         f: Vec3,
-        r: f32,
         d: Vec3,
         tmin: f32,
         tmax: f32,
         any_hit: bool,
-        exact: impl FnOnce() -> f32,
+        (base, offset, sphere): (Vec3, Vec3, &Sphere),
     ) -> Option<(f32, Vec3)> {
+        let r = sphere.radius;
         let (ff, rr) = (f.dot(f), r * r);
         let c = ff - rr;
         let b = f.dot(d);
@@ -397,7 +417,7 @@ impl Prepared {
                     }
                 }
             }
-            exact()
+            c_near(base, offset, sphere)
         };
         let k = Prepared { f, c, r };
         k.hit_ab(d, a, b, tmin, tmax).map(|t| (t, f))
