@@ -436,52 +436,76 @@ impl Prepared {
     }
 
     /// [`Prepared::hit`] with `a = d·d` and `b = f·d` already computed.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn hit_ab(&self, d: Vec3, a: f32, b: f32, tmin: f32, tmax: f32) -> Option<f32> {
-        // The same roots as `roots`, with the early exits that make it cost about what the
-        // lecture's formula costs: most tests are misses.
         let (f, c, r) = (self.f, self.c, self.r);
-        // b² − ac is off by a few ε (b² + a|c|) (its rounding, and that of b and c); a value
-        // below −2⁻¹⁸ of that misses the sphere's whole line whatever the rounding. Most tests
-        // are such misses: one branch first, and no Hearn–Baker divide for them.
-        let bb = b * b;
-        let disc0 = bb - a * c;
-        if disc0 < -(bb + a * libm::fabsf(c)) * (1.0 / 262_144.0) {
-            return None;
-        }
-        // Outside (c > 0) and heading away (b ≥ 0): both roots are negative.
-        if c > 0.0 && b >= 0.0 && tmin >= 0.0 {
-            return None;
-        }
-        let rr = r * r;
-        let disc = if libm::fabsf(c) <= rr {
-            disc0
-        } else {
-            let l = f - d * (b / a);
-            a * (rr - l.dot(l))
-        };
-        if !((0.0..=f32::MAX).contains(&disc) && finite(c)) {
-            // Overflow shows as ±∞ or NaN somewhere on the way to disc (or in c).
-            if disc < 0.0 && finite(disc) {
-                return None;
-            }
-            return select(roots_scaled(f.x, f.y, f.z, d.x, d.y, d.z, r)?, tmin, tmax);
-        }
-        let s = sqrt(disc);
-        let q = if b > 0.0 { -(b + s) } else { s - b };
-        if q == 0.0 {
-            return select((0.0, 0.0), tmin, tmax);
-        }
-        let t0 = near_root(a, b, c, q, s);
-        // With q > 0 and c > 0, c/q is the near root (c/q ≤ q/a since q² ≥ b² ≥ ac): when it is
-        // in range the far root's divide is not needed.
-        if q > 0.0 && c > 0.0 && t0 >= tmin && t0 <= tmax && t0 < f32::INFINITY {
-            return Some(t0);
-        }
-        let t1 = q / a;
-        select(if t0 <= t1 { (t0, t1) } else { (t1, t0) }, tmin, tmax)
+        hit_ab_xyz(f.x, f.y, f.z, c, r, d.x, d.y, d.z, a, b, tmin, tmax)
     }
+}
 
+/// [`Prepared::hit_ab`] on scalars: where it is not inlined (the shadow loops), a `Prepared` or
+/// `Vec3` argument would go by address, and the loop would build it in memory for every test.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+fn hit_ab_xyz(
+    fx: f32,
+    fy: f32,
+    fz: f32,
+    c: f32,
+    r: f32,
+    dx: f32,
+    dy: f32,
+    dz: f32,
+    a: f32,
+    b: f32,
+    tmin: f32,
+    tmax: f32,
+) -> Option<f32> {
+    let (f, d) = (Vec3::new(fx, fy, fz), Vec3::new(dx, dy, dz));
+    // The same roots as `roots`, with the early exits that make it cost about what the
+    // lecture's formula costs: most tests are misses.
+    // b² − ac is off by a few ε (b² + a|c|) (its rounding, and that of b and c); a value
+    // below −2⁻¹⁸ of that misses the sphere's whole line whatever the rounding. Most tests
+    // are such misses: one branch first, and no Hearn–Baker divide for them.
+    let bb = b * b;
+    let disc0 = bb - a * c;
+    if disc0 < -(bb + a * libm::fabsf(c)) * (1.0 / 262_144.0) {
+        return None;
+    }
+    // Outside (c > 0) and heading away (b ≥ 0): both roots are negative.
+    if c > 0.0 && b >= 0.0 && tmin >= 0.0 {
+        return None;
+    }
+    let rr = r * r;
+    let disc = if libm::fabsf(c) <= rr {
+        disc0
+    } else {
+        let l = f - d * (b / a);
+        a * (rr - l.dot(l))
+    };
+    if !((0.0..=f32::MAX).contains(&disc) && finite(c)) {
+        // Overflow shows as ±∞ or NaN somewhere on the way to disc (or in c).
+        if disc < 0.0 && finite(disc) {
+            return None;
+        }
+        return select(roots_scaled(f.x, f.y, f.z, d.x, d.y, d.z, r)?, tmin, tmax);
+    }
+    let s = sqrt(disc);
+    let q = if b > 0.0 { -(b + s) } else { s - b };
+    if q == 0.0 {
+        return select((0.0, 0.0), tmin, tmax);
+    }
+    let t0 = near_root(a, b, c, q, s);
+    // With q > 0 and c > 0, c/q is the near root (c/q ≤ q/a since q² ≥ b² ≥ ac): when it is
+    // in range the far root's divide is not needed.
+    if q > 0.0 && c > 0.0 && t0 >= tmin && t0 <= tmax && t0 < f32::INFINITY {
+        return Some(t0);
+    }
+    let t1 = q / a;
+    select(if t0 <= t1 { (t0, t1) } else { (t1, t0) }, tmin, tmax)
+}
+
+impl Prepared {
     /// Both roots `(near, far)` of the ray along `d`, or `None` when it misses the sphere.
     ///
     /// ```
@@ -656,7 +680,7 @@ pub(crate) fn hit_point_within(
     if ff <= near2 * (r * r) {
         return (ray.at(t), f + d * t);
     }
-    hit_point_far(ray.dir, t, f, sphere).unwrap_or((ray.at(t), f + d * t))
+    hit_point_far(d.x, d.y, d.z, t, f.x, f.y, f.z, sphere).unwrap_or((ray.at(t), f + d * t))
 }
 
 /// [`hit_point`] from afar: the offset as `l ± s·d`, with `l = f − (b/a) d` the foot of the
@@ -666,9 +690,22 @@ pub(crate) fn hit_point_within(
 /// taken from exact products ([`two_product`]), whose difference is then exact or nearly (good
 /// to ~2⁻⁴⁸ |f||d| where the plain one errs by 2⁻²⁴ |f||d|); `d × w` and the divide do not
 /// cancel. `r² − |l|²` is `c_near`'s (exact squares). All in f32: f64 would
-/// do as well, but it is software on a Cortex-M.
+/// do as well, but it is software on a Cortex-M. Scalar arguments, as for `c_near_xyz`: `Vec3`s
+/// would keep the callers' rays in memory.
 #[cold]
-fn hit_point_far(d: Vec3, t: f32, f: Vec3, sphere: &Sphere) -> Option<(Vec3, Vec3)> {
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn hit_point_far(
+    dx: f32,
+    dy: f32,
+    dz: f32,
+    t: f32,
+    fx: f32,
+    fy: f32,
+    fz: f32,
+    sphere: &Sphere,
+) -> Option<(Vec3, Vec3)> {
+    let (d, f) = (Vec3::new(dx, dy, dz), Vec3::new(fx, fy, fz));
     let w = Vec3::new(
         product_difference(f.y, d.z, f.z, d.y),
         product_difference(f.z, d.x, f.x, d.z),
