@@ -587,7 +587,7 @@ fn select((near, far): (f32, f32), tmin: f32, tmax: f32) -> Option<f32> {
 ///
 /// Scalar arguments, not `Vec3`s: an aggregate goes to a call by address, and for that the hot
 /// paths that call this (inlined in ray loops) kept `f` and `d` in memory, storing and reloading
-/// them in every test (on x86 a store-forwarding stall each; `ray_intersect` cost 3.5× the
+/// them in every test (on x86 a store-forwarding stall each; `ray_intersect` cost 3.2× the
 /// lecture's formula per test instead of 1.5×).
 #[cold]
 #[inline(never)]
