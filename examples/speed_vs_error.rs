@@ -255,20 +255,6 @@ fn sum_shadow_rays(
     acc
 }
 
-/// [`sum_hits`] with per-frame constants: `Prepared::hit` of every direction and sphere.
-#[inline(never)]
-fn sum_prepared(dirs: &[Vec3], prepared: &[Prepared]) -> f32 {
-    let mut acc = 0.0;
-    for &d in dirs {
-        for k in prepared {
-            if let Some(t) = black_box(k).hit(d, f32::MIN_POSITIVE, f32::INFINITY) {
-                acc += t;
-            }
-        }
-    }
-    acc
-}
-
 /// [`sum_shadow_rays`] for microray's own secondary rays, which leave from the centre `base` of
 /// the sphere left and the hit's `offset` from it (as a `Hit` has them).
 #[inline(never)]
@@ -621,7 +607,7 @@ fn main() {
     #[allow(clippy::redundant_closure)]
     let mut f_default = || sum_hits(eye, &dirs, &spheres, |o, d, s| default_per_ray(o, d, s));
     let mut f_f64_c_per_ray = || sum_hits(eye, &dirs, &spheres, f64_c_per_ray);
-    let mut f_frame = || sum_prepared(&dirs, &prepared);
+    let mut f_frame = || primary_frame(&dirs, &prepared);
     fs.push(&mut f_lecture);
     fs.push(&mut f_geometric);
     fs.push(&mut f_hb);

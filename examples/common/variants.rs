@@ -101,6 +101,24 @@ pub fn f64_c_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     .hit(d, f32::MIN_POSITIVE, f32::INFINITY)
 }
 
+// ---- a measured loop that both sides share ------------------------------------------------------
+
+/// Every direction against per-frame constants built once from the eye: `Prepared::hit` of
+/// every direction and sphere. Its own function, as the other measured loops, so that its code
+/// does not depend on its caller's.
+#[inline(never)]
+pub fn primary_frame(dirs: &[Vec3], prepared: &[Prepared]) -> f32 {
+    let mut acc = 0.0;
+    for &d in dirs {
+        for k in prepared {
+            if let Some(t) = core::hint::black_box(k).hit(d, f32::MIN_POSITIVE, f32::INFINITY) {
+                acc += t;
+            }
+        }
+    }
+    acc
+}
+
 // ---- square roots ------------------------------------------------------------------------------
 
 /// The "fast inverse square root" bit trick with `n` Newton steps, times x.

@@ -175,20 +175,6 @@ fn primary(
     acc
 }
 
-/// Every direction against per-frame constants built once from the eye.
-#[inline(never)]
-fn primary_frame(dirs: &[Vec3], prepared: &[Prepared]) -> f32 {
-    let mut acc = 0.0;
-    for &d in dirs {
-        for k in prepared {
-            if let Some(t) = black_box(k).hit(d, f32::MIN_POSITIVE, f32::INFINITY) {
-                acc += t;
-            }
-        }
-    }
-    acc
-}
-
 /// Every shadow-like ray against every sphere but the one it leaves; `f` gets the ray's origin
 /// as the hit's centre and offset (`anchor`, `rel`) and as one point (`o`).
 #[inline(never)]
