@@ -233,51 +233,6 @@ fn sum_hits(
     acc
 }
 
-/// The sum of the hits' t of shadow-like rays `(origin, direction, sphere left)`; the sphere a
-/// ray leaves is not intersected (microray uses its exit root). Inlined per variant, as
-/// `sum_hits`.
-#[inline(never)]
-fn sum_shadow_rays(
-    rays: &[(Vec3, Vec3, usize)],
-    spheres: &[Sphere],
-    f: impl Fn(Vec3, Vec3, &Sphere) -> Option<f32>,
-) -> f32 {
-    let mut acc = 0.0;
-    for &(o, d, from) in rays {
-        for (j, s) in spheres.iter().enumerate() {
-            if j != from {
-                if let Some(t) = f(o, d, s) {
-                    acc += t;
-                }
-            }
-        }
-    }
-    acc
-}
-
-/// [`sum_shadow_rays`] for microray's own secondary rays, which leave from the centre `base` of
-/// the sphere left and the hit's `offset` from it (as a `Hit` has them).
-#[inline(never)]
-fn sum_leaving(
-    rays: &[(Vec3, Vec3, usize)],
-    spheres: &[Sphere],
-    f: impl Fn(Vec3, Vec3, Vec3, &Sphere) -> Option<f32>,
-) -> f32 {
-    let mut acc = 0.0;
-    for &(o, d, from) in rays {
-        let base = spheres[from].center;
-        let offset = o - base;
-        for (j, s) in spheres.iter().enumerate() {
-            if j != from {
-                if let Some(t) = f(base, offset, d, s) {
-                    acc += t;
-                }
-            }
-        }
-    }
-    acc
-}
-
 // ---- a plain f32 renderer of the model with a pluggable intersection ---------------------------
 
 /// The model rendered the plain way, in f32: hit point `o + t d`, normal `(p − m)/r`, shadow and
@@ -629,15 +584,15 @@ fn main() {
     // microray's shading: Prepared::leaving_hit (from the hit's centre and offset, the sphere
     // skipped when certainly behind) ...
     let sum_shading = || {
-        sum_leaving(&shadow_rays, &lit_spheres, |base, offset, d, s| {
+        shadow_loop(&shadow_rays, &lit_spheres, |_, anchor, rel, s, d| {
             let (lo, hi) = (f32::MIN_POSITIVE, f32::INFINITY);
-            Prepared::leaving_hit(base, offset, s, d, lo, hi).map(|(t, _)| t)
+            Prepared::leaving_hit(anchor, rel, s, d, lo, hi).map(|(t, _)| t)
         })
     };
     // ... and as it tests shadow rays: any hit, no root (Prepared::leaving_blocks)
     let sum_blocks = || {
-        sum_leaving(&shadow_rays, &lit_spheres, |base, offset, d, s| {
-            Prepared::leaving_blocks(base, offset, s, d, f32::INFINITY).then_some(1.0)
+        shadow_loop(&shadow_rays, &lit_spheres, |_, anchor, rel, s, d| {
+            Prepared::leaving_blocks(anchor, rel, s, d, f32::INFINITY).then_some(1.0)
         })
     };
     let shadow_items = shadow_rays.len() * (lit_spheres.len() - 1);
@@ -645,15 +600,29 @@ fn main() {
         shadow_items,
         runs,
         &mut [
-            &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, lecture),
-            &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, geometric),
-            &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, hearn_baker),
+            // The per-ray variants from the ray's origin as one point; a closure per variant,
+            // so that each is inlined into its own copy of the loop.
+            &mut || shadow_loop(&shadow_rays, &lit_spheres, |o, _, _, s, d| lecture(o, d, s)),
             &mut || {
-                sum_shadow_rays(&shadow_rays, &lit_spheres, |o, d, s| {
+                shadow_loop(&shadow_rays, &lit_spheres, |o, _, _, s, d| {
+                    geometric(o, d, s)
+                })
+            },
+            &mut || {
+                shadow_loop(&shadow_rays, &lit_spheres, |o, _, _, s, d| {
+                    hearn_baker(o, d, s)
+                })
+            },
+            &mut || {
+                shadow_loop(&shadow_rays, &lit_spheres, |o, _, _, s, d| {
                     default_per_ray(o, d, s)
                 })
             },
-            &mut || sum_shadow_rays(&shadow_rays, &lit_spheres, f64_c_per_ray),
+            &mut || {
+                shadow_loop(&shadow_rays, &lit_spheres, |o, _, _, s, d| {
+                    f64_c_per_ray(o, d, s)
+                })
+            },
             &mut || sum_shading(),
             &mut || sum_blocks(),
         ],

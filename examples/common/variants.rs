@@ -101,7 +101,7 @@ pub fn f64_c_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     .hit(d, f32::MIN_POSITIVE, f32::INFINITY)
 }
 
-// ---- a measured loop that both sides share ------------------------------------------------------
+// ---- the measured loops that both sides share-----------------------------------------------------
 
 /// Every direction against per-frame constants built once from the eye: `Prepared::hit` of
 /// every direction and sphere. Its own function, as the other measured loops, so that its code
@@ -113,6 +113,31 @@ pub fn primary_frame(dirs: &[Vec3], prepared: &[Prepared]) -> f32 {
         for k in prepared {
             if let Some(t) = core::hint::black_box(k).hit(d, f32::MIN_POSITIVE, f32::INFINITY) {
                 acc += t;
+            }
+        }
+    }
+    acc
+}
+
+/// Every shadow-like ray `(origin, direction, sphere left)` against every sphere but the one it
+/// leaves (microray leaves it through its exit root); `f` gets the ray's origin as one point
+/// (`o`) and as the hit's centre and offset (`anchor`, `rel`), as microray's shading has it, and
+/// returns the hit's t, summed.
+#[inline(never)]
+pub fn shadow_loop(
+    rays: &[(Vec3, Vec3, usize)],
+    spheres: &[Sphere],
+    f: impl Fn(Vec3, Vec3, Vec3, &Sphere, Vec3) -> Option<f32>,
+) -> f32 {
+    let mut acc = 0.0;
+    for &(o, d, from) in rays {
+        let anchor = spheres[from].center;
+        let rel = o - anchor;
+        for (j, s) in spheres.iter().enumerate() {
+            if j != from {
+                if let Some(t) = f(o, anchor, rel, s, d) {
+                    acc += t;
+                }
             }
         }
     }

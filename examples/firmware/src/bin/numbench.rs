@@ -175,29 +175,6 @@ fn primary(
     acc
 }
 
-/// Every shadow-like ray against every sphere but the one it leaves; `f` gets the ray's origin
-/// as the hit's centre and offset (`anchor`, `rel`) and as one point (`o`).
-#[inline(never)]
-fn shadow(
-    rays: &[(Vec3, Vec3, usize)],
-    spheres: &[Sphere],
-    f: impl Fn(Vec3, Vec3, Vec3, &Sphere, Vec3) -> Option<f32>,
-) -> f32 {
-    let mut acc = 0.0;
-    for &(o, d, from) in rays {
-        let anchor = spheres[from].center;
-        let rel = o - anchor;
-        for (j, s) in spheres.iter().enumerate() {
-            if j != from {
-                if let Some(t) = f(o, anchor, rel, s, d) {
-                    acc += t;
-                }
-            }
-        }
-    }
-    acc
-}
-
 /// `f` of every argument, summed.
 #[inline(never)]
 fn each(xs: &[f32], f: impl Fn(f32) -> f32) -> f32 {
@@ -261,12 +238,12 @@ fn main() -> ! {
 
     // Shadow-like rays.
     let n = rays.len() * (lit.len() - 1);
-    let empty = c.count(|| shadow(rays, lit, |_, _, _, _, _| black_box(None)));
+    let empty = c.count(|| shadow_loop(rays, lit, |_, _, _, _, _| black_box(None)));
     hprintln!("shadow_tests={}", n);
     hprintln!("shadow_empty_loop={}", empty / n as i64);
     let p = |k: &str, f: fn(Vec3, Vec3, &Sphere) -> Option<f32>| {
         c.report(k, n, empty, || {
-            shadow(rays, lit, |o, _, _, s, d| f(black_box(o), d, s))
+            shadow_loop(rays, lit, |o, _, _, s, d| f(black_box(o), d, s))
         })
     };
     p("shadow_lecture", lecture);
@@ -276,12 +253,12 @@ fn main() -> ! {
     p("shadow_f64_c_per_ray", f64_c_per_ray);
     let (lo, hi) = (f32::MIN_POSITIVE, f32::INFINITY);
     c.report("shadow_leaving_hit", n, empty, || {
-        shadow(rays, lit, |_, anchor, rel, s, d| {
+        shadow_loop(rays, lit, |_, anchor, rel, s, d| {
             Prepared::leaving_hit(black_box(anchor), rel, s, d, lo, hi).map(|(t, _)| t)
         })
     });
     c.report("shadow_leaving_blocks", n, empty, || {
-        shadow(rays, lit, |_, anchor, rel, s, d| {
+        shadow_loop(rays, lit, |_, anchor, rel, s, d| {
             Prepared::leaving_blocks(black_box(anchor), rel, s, d, hi).then_some(1.0)
         })
     });
