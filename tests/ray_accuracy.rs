@@ -651,7 +651,8 @@ fn exact_c(base: Vec3, offset: Vec3, s: &Sphere) -> f64 {
 /// plain origin (`Prepared::new`) and for one given as a base and an offset
 /// (`Prepared::from_surface`, the shadow and mirror rays), against the exact value: within
 /// half an ulp of `c` plus 2⁻⁴⁴ (|f|² + r²) (the doc claims ~2⁻⁴⁵). The plain f32 value is
-/// checked to fail the same bound, so the test can tell the two apart.
+/// checked to fail the same bound, so the test can tell the two apart. A plain origin's `c`
+/// is also the bits of `Prepared::exact`, which computes it with the (zero) offset's sums.
 #[test]
 fn compensated_c_is_near_exact() {
     let mut g = Rng(2024);
@@ -685,6 +686,14 @@ fn compensated_c_is_near_exact() {
         let rr = s.radius * s.radius;
         if (ff - rr).abs() > 0.5 * (ff + rr) {
             continue; // f32 `c` is kept there: not this test's case
+        }
+        if k % 2 == 0 {
+            // Per-ray constants skip the offset's sums (`c_origin`): the per-frame bits still.
+            assert_eq!(
+                k_new.c.to_bits(),
+                Prepared::exact(base, &s).c.to_bits(),
+                "{base:?} {s:?}"
+            );
         }
         let exact = exact_c(base, offset, &s);
         let scale = v64(f).iter().map(|x| x * x).sum::<f64>() + (s.radius as f64).powi(2);
