@@ -190,13 +190,13 @@ fn c_origin(origin: Vec3, sphere: &Sphere) -> f32 {
 }
 
 /// [`c_near`] on the coordinates of base, offset and centre. Out of line: the rare call costs
-/// less than its ~100 operations inlined into every ray loop (on x86-64, 7% of the renderer's
-/// time), and on Arm s16–s31 keep the caller's values across it. Scalars, not `Vec3`s (nor an array): an aggregate
-/// goes to a call by address, and callers then kept it in memory for every test, not only for
-/// the few that call this.
+/// less than its ~120 operations inlined into every ray loop (on x86-64, 7% of the renderer's
+/// time), and on Arm s16–s31 keep the caller's values across it. Scalars, not `Vec3`s (nor an
+/// array): an aggregate goes to a call by address, and callers then kept it in memory for
+/// every test, not only for the few that call this.
 ///
 /// `OFFSET` false: for a plain origin (`offset` zero), where the sum with the offset is exact and
-/// is left out (the same bits, ~20% fewer operations; `ray_intersect`, [`Prepared::new`]).
+/// is left out (the same bits, ~15% fewer operations; `ray_intersect`, [`Prepared::new`]).
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
 fn c_near_xyz<const OFFSET: bool>(
@@ -390,6 +390,7 @@ impl Prepared {
     /// `Prepared { f, c, r }.hit(d, tmin, tmax)` for the origin `base + offset` and `sphere`
     /// (`f` their difference), with the compensated `c` only where the f32 value cancels and
     /// the answer is not clear without it (see `leaving_test`).
+    ///
     /// `OFFSET` false when `offset` is zero (see `c_near_xyz`).
     #[inline(always)]
     fn fused<const OFFSET: bool>(
