@@ -436,11 +436,9 @@ impl Prepared {
                     }
                 }
             }
-            if OFFSET {
-                c_near(base, offset, sphere)
-            } else {
-                c_origin(base, sphere)
-            }
+            // `c_near`, or `c_origin` (without the offset's sums) when `OFFSET` is false.
+            let (b, o, m) = (base, offset, sphere.center);
+            c_near_xyz::<OFFSET>(b.x, b.y, b.z, o.x, o.y, o.z, m.x, m.y, m.z, r)
         };
         let k = Prepared { f, c, r };
         k.hit_ab(d, a, b, tmin, tmax).map(|t| (t, f))
