@@ -596,33 +596,27 @@ fn main() {
         })
     };
     let shadow_items = shadow_rays.len() * (lit_spheres.len() - 1);
+    // The per-ray variants from the ray's origin as one point; a macro, not a helper taking the
+    // variant, so that each gets a closure of its own and is inlined into its own copy of the
+    // loop (`default_per_ray`'s fn item was not: its `Fn::call` shim stayed out of line).
+    macro_rules! per_ray {
+        ($variant:ident) => {
+            &mut || {
+                shadow_loop(&shadow_rays, &lit_spheres, |o, _, _, s, d| {
+                    $variant(o, d, s)
+                })
+            }
+        };
+    }
     let ns2 = time_all(
         shadow_items,
         runs,
         &mut [
-            // The per-ray variants from the ray's origin as one point; a closure per variant,
-            // so that each is inlined into its own copy of the loop.
-            &mut || shadow_loop(&shadow_rays, &lit_spheres, |o, _, _, s, d| lecture(o, d, s)),
-            &mut || {
-                shadow_loop(&shadow_rays, &lit_spheres, |o, _, _, s, d| {
-                    geometric(o, d, s)
-                })
-            },
-            &mut || {
-                shadow_loop(&shadow_rays, &lit_spheres, |o, _, _, s, d| {
-                    hearn_baker(o, d, s)
-                })
-            },
-            &mut || {
-                shadow_loop(&shadow_rays, &lit_spheres, |o, _, _, s, d| {
-                    default_per_ray(o, d, s)
-                })
-            },
-            &mut || {
-                shadow_loop(&shadow_rays, &lit_spheres, |o, _, _, s, d| {
-                    f64_c_per_ray(o, d, s)
-                })
-            },
+            per_ray!(lecture),
+            per_ray!(geometric),
+            per_ray!(hearn_baker),
+            per_ray!(default_per_ray),
+            per_ray!(f64_c_per_ray),
             &mut || sum_shading(),
             &mut || sum_blocks(),
         ],
