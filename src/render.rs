@@ -388,10 +388,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             };
             shade_lit(scene, hit, ray.dir, |i, light, v| {
                 scene.shadows() && {
-                    let cs = self.light_consts(i, light);
-                    let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
                     // A slice in both cases: one copy of the shadow tests, and a tight loop.
                     let cands = lists.and_then(|l| l.light(i)).unwrap_or(&self.all);
+                    // No candidate: only the hit's own sphere could block, and only when it
+                    // is seen from inside (see `in_shadow_among`). Most span lists are empty.
+                    if cands.is_empty() && !(hit.normal.dot(hit.offset) < 0.0) {
+                        return false;
+                    }
+                    let cs = self.light_consts(i, light);
+                    let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
                     let cands = cands.iter().map(|&j| j as usize);
                     in_shadow_among(scene, hit, light, v, consts, cands)
                 }
