@@ -1201,6 +1201,10 @@ impl<'c, const L: usize> Lists<'c, L> {
     #[inline]
     fn light(self, i: usize) -> Option<&'c [u16]> {
         let (a, b) = self.ranges.get(i).copied()?;
+        // The common case, no candidate, without the slice's bounds checks.
+        if a == b {
+            return Some(&[]);
+        }
         // `ALL` has a > b: no slice.
         self.pool.get(a as usize..b as usize)
     }
