@@ -405,19 +405,23 @@ impl Prepared {
         let (ff, rr) = (f.dot(f), r * r);
         let c = ff - rr;
         let b = f.dot(d);
-        // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f):
-        // clear misses of the sphere's line (as in `hit_ab`, with that error too; most tests)
-        // and spheres certainly behind are decided before the compensated c.
-        let err_c = (ff + rr) * (1.0 / 1_048_576.0);
+        // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f), so
+        // b² − ac is off by that times a, plus a few ε (b² + a ff) from b, b² and ac: below
+        // −2⁻¹⁷ (b² + a (ff + rr)) it misses the sphere's line whatever the rounding. Most tests
+        // are such misses, decided before the compensated c, as are spheres certainly behind.
+        // (A margin scaled by |c| instead, as `hit_ab`'s with an accurate c, is too small where
+        // c cancels: rays from 1 above a ground of radius 10⁶ that meet it 1 400 away missed.)
+        let sum = ff + rr;
         let a = d.dot(d);
         let bb = b * b;
-        if bb - a * c < -(bb + a * (libm::fabsf(c) + err_c)) * (1.0 / 262_144.0) {
+        if bb - a * c < -(bb + a * sum) * (1.0 / 131_072.0) {
             return None;
         }
+        let err_c = sum * (1.0 / 1_048_576.0);
         if c > err_c && b >= 0.0 && tmin >= 0.0 {
             return None;
         }
-        let c = if libm::fabsf(c) > (ff + rr) * CANCEL && finite(c) {
+        let c = if libm::fabsf(c) > sum * CANCEL && finite(c) {
             c
         } else {
             if any_hit {
