@@ -98,6 +98,13 @@ fn ground_1e6() {
     check("ground_1e6", 0.5);
 }
 
+/// A sun just below the horizon of a radius-10⁶ ground: its shadow rays from a ball resting on
+/// the ground graze the ground; the terminator is where the exact rays put it.
+#[test]
+fn sunset_1e6() {
+    check("sunset_1e6", 0.5);
+}
+
 #[test]
 fn eye_inside() {
     check("eye_inside", 0.99);
