@@ -429,7 +429,7 @@ impl Prepared {
                 // (the rounding of b/a, l and its square): 2⁻²⁰ of that is a clear sign.
                 let l = f - d * (b / a);
                 let disc = a * (rr - l.dot(l));
-                let margin = a * (rr + ff) * (1.0 / 1_048_576.0);
+                let margin = a * sum * (1.0 / 1_048_576.0);
                 if finite(disc) && finite(margin) {
                     if disc < -margin {
                         return None;
