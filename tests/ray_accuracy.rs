@@ -8,7 +8,7 @@
 
 mod common;
 
-use common::reference::reference_t;
+use common::reference::{reference_t, reference_t64};
 use common::rng::Rng;
 use microray::geometry::exit_root;
 use microray::shading::{find_from, in_shadow, reflect};
@@ -549,6 +549,16 @@ fn extreme_magnitudes_never_give_a_non_finite_hit() {
     assert!(hits > 100, "the test must exercise hits too");
 }
 
+/// The unit vector along `e` minus its component along the unit vector `u`: with `u` from a
+/// sphere's centre to a ray's origin, the direction from the centre to the point where a ray
+/// aimed past the sphere is closest to it.
+fn unit_perpendicular(e: [f64; 3], u: [f64; 3]) -> [f64; 3] {
+    let dot = e[0] * u[0] + e[1] * u[1] + e[2] * u[2];
+    let v = [e[0] - dot * u[0], e[1] - dot * u[1], e[2] - dot * u[2]];
+    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    [v[0] / len, v[1] / len, v[2] / len]
+}
+
 /// The shadow test that decides clear cases without the root or the compensated `c`
 /// (`Prepared::leaving_blocks`) answers as the full test (`leaving_hit`) does, on rays from
 /// points near a sphere's surface (where the full test needs that `c`) in every direction: from
@@ -576,13 +586,7 @@ fn shadow_test_shortcut_agrees_with_the_full_test() {
         // the sphere (|δ| ≤ 10⁻⁴), half pass anywhere near it; from inside, any direction
         let delta = if g.u() < 0.5 { 1e-4 } else { 0.5 } * g.range(-1.0, 1.0);
         let e = g.dir();
-        // q: a unit vector perpendicular to u
-        let q = {
-            let dot = e[0] * u[0] + e[1] * u[1] + e[2] * u[2];
-            let v = [e[0] - dot * u[0], e[1] - dot * u[1], e[2] - dot * u[2]];
-            let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-            [v[0] / len, v[1] / len, v[2] / len]
-        };
+        let q = unit_perpendicular(e, u);
         let rd = r * (1.0 + delta);
         let h = if dist > rd * 1.001 {
             rd * dist / (dist * dist - rd * rd).sqrt()
@@ -607,20 +611,6 @@ fn shadow_test_shortcut_agrees_with_the_full_test() {
     }
     println!("{n} shadow tests, {hits} blocked, {near} origins where c needs compensating");
     assert!(hits > n / 10 && hits < n * 9 / 10 && near > 100_000);
-}
-
-/// Whether the ray from `o` along `d` (exact in f64) meets the sphere at some t > 0.
-fn exact_meets(o: [f64; 3], d: [f64; 3], m: [f64; 3], r: f64) -> bool {
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let f = [o[0] - m[0], o[1] - m[1], o[2] - m[2]];
-    let (a, b) = (dot(d, d), dot(f, d));
-    let l = [
-        f[0] - b / a * d[0],
-        f[1] - b / a * d[1],
-        f[2] - b / a * d[2],
-    ];
-    // Hearn–Baker's discriminant, and the far root's sign: b < 0 or the origin inside
-    a * (r * r - dot(l, l)) >= 0.0 && (b < 0.0 || dot(f, f) < r * r)
 }
 
 /// Grazing rays from origins near a huge sphere (0.001–3 above grounds of radius 10³–10⁶, the
@@ -655,20 +645,17 @@ fn grazing_rays_from_near_a_huge_sphere_decide_as_the_exact_ray() {
         // a direction whose closest approach to the centre is r (1 ± 10^(−12…−3))
         let dist = r + h;
         let delta = 10f64.powf(g.range(-12.0, -3.0)) * if g.u() < 0.5 { -1.0 } else { 1.0 };
-        let e = g.dir();
-        let dot = e[0] * u[0] + e[1] * u[1] + e[2] * u[2];
-        let q = [e[0] - dot * u[0], e[1] - dot * u[1], e[2] - dot * u[2]];
-        let ql = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
+        let q = unit_perpendicular(g.dir(), u);
         let rd = r * (1.0 + delta);
         let t = rd * dist / (dist * dist - rd * rd).sqrt();
-        let target = [0, 1, 2].map(|i| m[i] + q[i] / ql * t);
+        let target = [0, 1, 2].map(|i| m[i] + q[i] * t);
         let d = [0, 1, 2].map(|i| target[i] - p[i]);
         let dl = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         let d = v32(d.map(|x| x / dl));
         let s = Sphere::new(v32(m), r as f32);
         // the exact answer, and whether 2 ulp of a coordinate of d change it
         let decide = |o: [f64; 3]| {
-            let at = exact_meets(o, v64(d), m, r);
+            let at = reference_t64(o, v64(d), m, r).is_some();
             let step = |x: f32, k: i32| {
                 let b = x.to_bits() as i64 + if x >= 0.0 { k as i64 } else { -k as i64 };
                 f32::from_bits(b as u32)
@@ -677,7 +664,7 @@ fn grazing_rays_from_near_a_huge_sphere_decide_as_the_exact_ray() {
             for i in 0..27 {
                 let ks = [i % 3, i / 3 % 3, i / 9].map(|k| 2 * (k - 1));
                 let dd = Vec3::new(step(d.x, ks[0]), step(d.y, ks[1]), step(d.z, ks[2]));
-                sensitive |= exact_meets(o, v64(dd), m, r) != at;
+                sensitive |= reference_t64(o, v64(dd), m, r).is_some() != at;
             }
             (at, sensitive)
         };

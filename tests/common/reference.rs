@@ -100,8 +100,12 @@ pub fn roots(o: V, d: V, center: V, r: f64) -> Option<(f64, f64)> {
 /// discriminant, stable roots).
 pub fn reference_t(o: microray::Vec3, d: microray::Vec3, s: &microray::Sphere) -> Option<f64> {
     let v = |p: microray::Vec3| [p.x as f64, p.y as f64, p.z as f64];
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let (o, d, m, r) = (v(o), v(d), v(s.center), s.radius as f64);
+    reference_t64(v(o), v(d), v(s.center), s.radius as f64)
+}
+
+/// [`reference_t`] for inputs already in f64 (an origin that is a sum of f32 vectors, exact in
+/// f64 but not in f32).
+pub fn reference_t64(o: V, d: V, m: V, r: f64) -> Option<f64> {
     let f = [o[0] - m[0], o[1] - m[1], o[2] - m[2]];
     let (a, b) = (dot(d, d), dot(f, d));
     let c = dot(f, f) - r * r;
