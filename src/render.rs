@@ -688,8 +688,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// Gathers the span `[span_start, span_end)` of row `j`: its spheres from the row's, then
-    /// (with shadow rays) its primary hits, the ball bounding their points, and each light's
-    /// possible blockers.
+    /// (with shadow rays, or one sample a pixel) its primary hits, and with shadow rays the
+    /// ball bounding their points and each light's possible blockers.
     #[inline(never)]
     fn gather(&self, j: u32, cull: &mut Cull<S, L>) {
         let (i0, i1) = (cull.span_start, cull.span_end);
@@ -703,7 +703,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         cull.culled = false;
         cull.stored = false;
-        if !self.shadow_rays {
+        // Without shadow rays the span needs no bounds, but with one sample a pixel its hits
+        // are still traced here, in one tight loop over the span, and kept for shading.
+        if !self.shadow_rays && self.samples != 1 {
             return;
         }
         // The span's primary hits (kept for shading when one sample per pixel), grouped by
@@ -773,7 +775,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         let h = self.primary_among(&ray, i, &cull.span);
                         if let Some((t, s)) = h {
                             // The point of `make_hit`, without the rest of the hit record.
-                            if let (Some(e), Some(sphere)) = (self.eye.get(s), spheres.get(s)) {
+                            if let (true, Some(e), Some(sphere)) =
+                                (self.shadow_rays, self.eye.get(s), spheres.get(s))
+                            {
                                 let near2 = self.scene.near2(s);
                                 extend(s, hit_point_within(&ray, t, e.f, sphere, near2).0);
                             }
@@ -789,6 +793,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
             }
             cull.stored = n == 1;
+        }
+        if !self.shadow_rays {
+            return;
         }
         cull.culled = true;
         cull.pool.clear();
