@@ -475,9 +475,8 @@ impl<const S: usize, const L: usize> Scene<S, L> {
 
 /// The hit record for parameter `t` on sphere `i`, given `f = ray origin − centre`, for a
 /// path that began at `origin` and had come `path` from it to the ray's origin (see
-/// [`Hit::anchor`]). Out of line: one copy for the renderer's and the shading's callers, which
-/// small flash prefers.
-#[inline(never)]
+/// [`Hit::anchor`]).
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn make_hit(
     ray: &Ray,
@@ -489,9 +488,45 @@ pub(crate) fn make_hit(
     origin: Vec3,
     path: Vec3,
 ) -> Hit {
+    let (d, o, p) = (ray.dir, origin, path);
+    make_hit_xyz(
+        d.x, d.y, d.z, t, i, f.x, f.y, f.z, sphere, near2, o.x, o.y, o.z, p.x, p.y, p.z,
+    )
+}
+
+/// [`make_hit`] on scalars. Out of line: one copy for the renderer's and the shading's callers,
+/// which small flash prefers; scalars rather than a `Ray` and `Vec3`s, which would go by
+/// address (on a Cortex-M4F its 14 floats travel in s0–s13). The ray's origin is not needed:
+/// the offset is computed from `f`.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn make_hit_xyz(
+    dx: f32,
+    dy: f32,
+    dz: f32,
+    t: f32,
+    i: usize,
+    fx: f32,
+    fy: f32,
+    fz: f32,
+    sphere: &Sphere,
+    near2: f32,
+    ox: f32,
+    oy: f32,
+    oz: f32,
+    px: f32,
+    py: f32,
+    pz: f32,
+) -> Hit {
+    let ray = Ray::new(Vec3::ZERO, Vec3::new(dx, dy, dz));
+    let (f, origin, path) = (
+        Vec3::new(fx, fy, fz),
+        Vec3::new(ox, oy, oz),
+        Vec3::new(px, py, pz),
+    );
     // The offset from the centre is computed directly (see `hit_point`): unlike
     // `point − centre` it does not lose the low bits of a point far from the origin.
-    let (_, offset) = hit_point_within(ray, t, f, sphere, near2);
+    let (_, offset) = hit_point_within(&ray, t, f, sphere, near2);
     let outward = offset / sphere.radius;
     let path = path + ray.dir * t;
     // |offset| = r: the shorter vector by one comparison of squares.
