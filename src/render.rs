@@ -578,12 +578,50 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             // The hit record from (t, sphere): `make_hit` is a pure function of them.
             let first = self.eye_hit(&ray, t, s as usize);
             self.shade_from(&ray, first, shadow)
+        } else if KEPT > 1 && cull.kept {
+            let k = (i - cull.span_start) as usize;
+            // `average`'s sum, in its order, of the samples' kept hits (slot `m·SPAN + k`).
+            let n = self.samples;
+            let mut sum = Color::ZERO;
+            for m in 0..n * n {
+                let slot = m as usize * SPAN + k;
+                sum += match cull.hit(slot) {
+                    Some(h) => self.shade_kept(i, j, slot, h, shadow, cull),
+                    // What `shade_from` gives a ray that hits nothing.
+                    None => self.scene.background(),
+                };
+            }
+            sum / (n * n) as f32
         } else {
             self.average(i, j, |ray| {
                 self.shade_from(ray, self.primary_hit_among(ray, i, &cull.span), shadow)
             })
         };
         self.encode(c)
+    }
+
+    /// The colour of the kept primary hit `(t, sphere)` in `slot` of a supersampled span (see
+    /// `KEPT`): the hit record rebuilt from them (`make_hit` is a pure function of them) along
+    /// the kept view ray, or the rebuilt one where directions are not kept (the same bits).
+    #[inline]
+    fn shade_kept(
+        &self,
+        i: u32,
+        j: u32,
+        slot: usize,
+        (t, s): (f32, u16),
+        shadow: Option<&Cull<S, L>>,
+        cull: &Cull<S, L>,
+    ) -> Color {
+        let ray = match cull.hit_d.get(slot) {
+            Some(&dir) => Ray::new(self.camera.eye(), dir),
+            None => {
+                let (n, m) = (self.samples, (slot / SPAN) as u32);
+                self.camera.view_ray(i, j, m % n, m / n, n)
+            }
+        };
+        let first = self.eye_hit(&ray, t, s as usize);
+        self.shade_from(&ray, first, shadow)
     }
 
     /// Renders rows `first_row ..` into `buf`, which holds a whole number of rows; returns how
@@ -703,9 +741,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         cull.culled = false;
         cull.stored = false;
+        cull.kept = false;
         // Without shadow rays the span needs no bounds, but with one sample a pixel its hits
         // are still traced here, in one tight loop over the span, and kept for shading.
-        if !self.shadow_rays && self.samples != 1 {
+        let kept = (self.samples * self.samples) as usize <= KEPT;
+        if !self.shadow_rays && !kept {
             return;
         }
         // The span's primary hits (kept for shading when one sample per pixel), grouped by
@@ -769,7 +809,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let y = j as f32 + sample_offset(sy, n);
                 for sx in 0..n {
                     let ox = sample_offset(sx, n);
+                    // The sample's slots (see `KEPT`).
+                    let base = if KEPT > 1 {
+                        (sy * n + sx) as usize * SPAN
+                    } else {
+                        0
+                    };
                     for (k, i) in (i0..i1).enumerate() {
+                        let slot = base + k;
                         // `view_ray(i, j, sx, sy, n)`, the same bits.
                         let ray = self.camera.ray(i as f32 + ox, y);
                         let h = self.primary_among(&ray, i, &cull.span);
@@ -782,17 +829,19 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                 extend(s, hit_point_within(&ray, t, e.f, sphere, near2).0);
                             }
                             // Only a hit is shaded with its ray.
-                            if let Some(d) = cull.hit_d.get_mut(k) {
+                            if let Some(d) = cull.hit_d.get_mut(slot) {
                                 *d = ray.dir;
                             }
                         }
-                        if let (Some(t), Some(s)) = (cull.hit_t.get_mut(k), cull.hit_s.get_mut(k)) {
+                        let (t, s) = (cull.hit_t.get_mut(slot), cull.hit_s.get_mut(slot));
+                        if let (Some(t), Some(s)) = (t, s) {
                             (*t, *s) = h.map_or((0.0, NONE), |(t, s)| (t, s as u16));
                         }
                     }
                 }
             }
             cull.stored = n == 1;
+            cull.kept = kept && n > 1;
         }
         if !self.shadow_rays {
             return;
@@ -899,8 +948,12 @@ const REST: u16 = u16::MAX - 1;
 const DIRS: usize = if cfg!(all(target_arch = "arm", not(target_abi = "eabihf"))) {
     0
 } else {
-    SPAN
+    SPAN * KEPT
 };
+/// Samples a pixel whose primary hits a span keeps for shading, so that a supersampled pixel is
+/// not traced twice (once for the span's bounds, once to shade): 2×2 where there is room, one on
+/// Arm, whose render stack (2 KiB on the firmware) has none for 54 more bytes a pixel.
+const KEPT: usize = if cfg!(target_arch = "arm") { 1 } else { 4 };
 /// A light's pool range when it must test every sphere (empty as `a..b`: `a > b`).
 const ALL: (u16, u16) = (u16::MAX, 0);
 
@@ -1140,8 +1193,11 @@ struct Cull<const S: usize, const L: usize> {
     /// (`NONE`: no hit), and `hit_d` (see [`DIRS`]) the direction of each hit's view ray: 6 or
     /// 18 bytes a pixel, for microcontroller stacks.
     stored: bool,
-    hit_t: [f32; SPAN],
-    hit_s: [u16; SPAN],
+    /// The same for every sample of a supersampled span, sample `m` of pixel `k` in slot
+    /// `m·SPAN + k` (see [`KEPT`]).
+    kept: bool,
+    hit_t: [f32; SPAN * KEPT],
+    hit_s: [u16; SPAN * KEPT],
     hit_d: [Vec3; DIRS],
     /// The pixel of every primary ray that hits nothing.
     miss: Rgb888,
@@ -1159,9 +1215,10 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             span_end: 0,
             culled: false,
             stored: false,
+            kept: false,
             // Zeros, which the compiler writes in place; a span writes them before use.
-            hit_t: [0.0; SPAN],
-            hit_s: [0; SPAN],
+            hit_t: [0.0; SPAN * KEPT],
+            hit_s: [0; SPAN * KEPT],
             hit_d: [Vec3::ZERO; DIRS],
             miss: Rgb888::new(0, 0, 0),
         }
