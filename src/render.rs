@@ -315,8 +315,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
 
     /// The closest hit of the primary ray through column `i`, as `(t, sphere)`, against the
     /// spheres of `cands` (in scene order) whose box holds that column (the row is the
-    /// caller's). Inlined in the hot loop of [`Frame::gather`], which needs only the hit
-    /// point; the other callers share [`Frame::primary_hit_among`].
+    /// caller's). Inlined in [`Frame::gather`]'s pixel loop where spans cannot keep every view
+    /// direction (soft-float Arm; elsewhere [`Frame::trace_span`] finds the same hits sphere by
+    /// sphere); the other callers share [`Frame::primary_hit_among`].
     #[inline]
     fn primary_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<(f32, usize)> {
         let mut best: Option<(f32, usize)> = None;
@@ -725,6 +726,58 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         self.render_rows(0, buf).map(|_| ())
     }
 
+    /// The closest primary hits of the span's pixels `i0..i1` for one sample (`ox`, row
+    /// coordinate `y`) into the slots `base..`: view directions in `hit_d`, `(t, sphere)` in
+    /// `hit_t`/`hit_s` (`NONE`: a miss). Sphere by sphere in scene order, each over the columns of
+    /// its box: every pixel sees its candidates in the order and with the `tmax` of
+    /// [`Frame::primary_among`], so the hits are its hits, bit for bit, while a sphere's
+    /// constants and box stay in registers across its columns.
+    #[inline]
+    fn trace_span(&self, i0: u32, i1: u32, ox: f32, y: f32, base: usize, cull: &mut Cull<S, L>) {
+        let len = (i1 - i0) as usize;
+        let (Some(dirs), Some(ts), Some(ss)) = (
+            cull.hit_d.get_mut(base..base + len),
+            cull.hit_t.get_mut(base..base + len),
+            cull.hit_s.get_mut(base..base + len),
+        ) else {
+            return;
+        };
+        for ((d, t), (s, i)) in dirs
+            .iter_mut()
+            .zip(ts.iter_mut())
+            .zip(ss.iter_mut().zip(i0..))
+        {
+            // `view_ray(i, j, sx, sy, n)`, the same bits.
+            *d = self.camera.ray(i as f32 + ox, y).dir;
+            *t = f32::INFINITY;
+            *s = NONE;
+        }
+        for &sphere in &cull.span {
+            let (Some(b), Some(k)) = (
+                self.boxes.get(sphere as usize),
+                self.eye.get(sphere as usize),
+            ) else {
+                continue;
+            };
+            // The box's columns within the span (the span list holds only boxes that meet it).
+            let lo = (b.i0 as u32).max(i0) - i0;
+            let hi = (b.i1 as u32 + 1).min(i1).saturating_sub(i0);
+            let (Some(dirs), Some(ts), Some(ss)) = (
+                dirs.get(lo as usize..hi as usize),
+                ts.get_mut(lo as usize..hi as usize),
+                ss.get_mut(lo as usize..hi as usize),
+            ) else {
+                continue;
+            };
+            for ((d, t), s) in dirs.iter().zip(ts.iter_mut()).zip(ss.iter_mut()) {
+                if let Some(hit) = k.hit(*d, T_EPS, *t) {
+                    *t = hit;
+                    *s = sphere;
+                }
+            }
+        }
+    }
+
     /// Gathers the span `[span_start, span_end)` of row `j`: its spheres from the row's, then
     /// (with shadow rays, or one sample a pixel) its primary hits, and with shadow rays the
     /// ball bounding their points and each light's possible blockers.
@@ -815,11 +868,31 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     } else {
                         0
                     };
+                    if SPHERE_MAJOR {
+                        // Scratch slots where this sample's hits are not kept (see `KEPT`).
+                        let base = if kept { base } else { 0 };
+                        self.trace_span(i0, i1, ox, y, base, cull);
+                        if !self.shadow_rays {
+                            // The hits are kept; no bounds to extend.
+                            continue;
+                        }
+                    }
                     for (k, i) in (i0..i1).enumerate() {
                         let slot = base + k;
                         // `view_ray(i, j, sx, sy, n)`, the same bits.
-                        let ray = self.camera.ray(i as f32 + ox, y);
-                        let h = self.primary_among(&ray, i, &cull.span);
+                        let (ray, h) = if SPHERE_MAJOR {
+                            let slot = if kept { slot } else { k };
+                            let dir = cull.hit_d.get(slot).copied().unwrap_or(Vec3::ZERO);
+                            let h = match (cull.hit_t.get(slot), cull.hit_s.get(slot)) {
+                                (Some(&t), Some(&s)) if s != NONE => Some((t, s as usize)),
+                                _ => None,
+                            };
+                            (Ray::new(self.camera.eye(), dir), h)
+                        } else {
+                            let ray = self.camera.ray(i as f32 + ox, y);
+                            let h = self.primary_among(&ray, i, &cull.span);
+                            (ray, h)
+                        };
                         if let Some((t, s)) = h {
                             // The point of `make_hit`, without the rest of the hit record.
                             if let (true, Some(e), Some(sphere)) =
@@ -828,10 +901,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                 let near2 = self.scene.near2(s);
                                 extend(s, hit_point_within(&ray, t, e.f, sphere, near2).0);
                             }
-                            // Only a hit is shaded with its ray.
-                            if let Some(d) = cull.hit_d.get_mut(slot) {
+                            // Only a hit is shaded with its ray (`trace_span` kept them all).
+                            if let (false, Some(d)) = (SPHERE_MAJOR, cull.hit_d.get_mut(slot)) {
                                 *d = ray.dir;
                             }
+                        }
+                        if SPHERE_MAJOR {
+                            continue;
                         }
                         let (t, s) = (cull.hit_t.get_mut(slot), cull.hit_s.get_mut(slot));
                         if let (Some(t), Some(s)) = (t, s) {
@@ -954,6 +1030,9 @@ const DIRS: usize = if cfg!(all(target_arch = "arm", not(target_abi = "eabihf"))
 /// not traced twice (once for the span's bounds, once to shade): 2×2 where there is room, one on
 /// Arm, whose render stack (2 KiB on the firmware) has none for 54 more bytes a pixel.
 const KEPT: usize = if cfg!(target_arch = "arm") { 1 } else { 4 };
+/// Whether a span traces its primary rays sphere by sphere (`Frame::trace_span`), which needs
+/// room for every pixel's view direction; on soft-float Arm, with none, pixel by pixel.
+const SPHERE_MAJOR: bool = DIRS >= SPAN;
 /// A light's pool range when it must test every sphere (empty as `a..b`: `a > b`).
 const ALL: (u16, u16) = (u16::MAX, 0);
 
