@@ -883,10 +883,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         let (ray, h) = if SPHERE_MAJOR {
                             let slot = if kept { slot } else { k };
                             let dir = cull.hit_d.get(slot).copied().unwrap_or(Vec3::ZERO);
-                            let h = match (cull.hit_t.get(slot), cull.hit_s.get(slot)) {
-                                (Some(&t), Some(&s)) if s != NONE => Some((t, s as usize)),
-                                _ => None,
-                            };
+                            let h = cull.hit(slot).map(|(t, s)| (t, s as usize));
                             (Ray::new(self.camera.eye(), dir), h)
                         } else {
                             let ray = self.camera.ray(i as f32 + ox, y);
