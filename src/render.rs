@@ -853,11 +853,17 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             cull.hit_s.fill(NONE);
             cull.stored = true;
         } else {
-            // Every sample's hit joins the bounds; the one sample of a pixel, when there is
-            // only one, is also kept for shading (with several, each pixel's slots end up
-            // holding its last sample, unused). One loop for both, pixels innermost so that
-            // the sample's offsets (the divides of `Camera::view_ray`) are hoisted.
+            // Every sample's hit joins the bounds; the hits are also kept for shading where
+            // there is room (`KEPT`), the samples outermost so that their offsets (the divides
+            // of `Camera::view_ray`) are hoisted.
             let n = self.samples;
+            // The point of `make_hit`, without the rest of the hit record, joins the bounds.
+            let mut bound = |ray: &Ray, t: f32, s: usize| {
+                if let (Some(e), Some(sphere)) = (self.eye.get(s), spheres.get(s)) {
+                    let near2 = self.scene.near2(s);
+                    extend(s, hit_point_within(ray, t, e.f, sphere, near2).0);
+                }
+            };
             for sy in 0..n {
                 let y = j as f32 + sample_offset(sy, n);
                 for sx in 0..n {
@@ -869,42 +875,34 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         0
                     };
                     if SPHERE_MAJOR {
-                        // Scratch slots where this sample's hits are not kept (see `KEPT`).
+                        // Scratch slots where this sample's hits are not kept.
                         let base = if kept { base } else { 0 };
                         self.trace_span(i0, i1, ox, y, base, cull);
-                        if !self.shadow_rays {
-                            // The hits are kept; no bounds to extend.
-                            continue;
+                        if self.shadow_rays {
+                            for slot in base..base + (i1 - i0) as usize {
+                                if let (Some((t, s)), Some(&dir)) =
+                                    (cull.hit(slot), cull.hit_d.get(slot))
+                                {
+                                    bound(&Ray::new(self.camera.eye(), dir), t, s as usize);
+                                }
+                            }
                         }
+                        continue;
                     }
+                    // Pixel by pixel (soft-float Arm, see `SPHERE_MAJOR`).
                     for (k, i) in (i0..i1).enumerate() {
                         let slot = base + k;
                         // `view_ray(i, j, sx, sy, n)`, the same bits.
-                        let (ray, h) = if SPHERE_MAJOR {
-                            let slot = if kept { slot } else { k };
-                            let dir = cull.hit_d.get(slot).copied().unwrap_or(Vec3::ZERO);
-                            let h = cull.hit(slot).map(|(t, s)| (t, s as usize));
-                            (Ray::new(self.camera.eye(), dir), h)
-                        } else {
-                            let ray = self.camera.ray(i as f32 + ox, y);
-                            let h = self.primary_among(&ray, i, &cull.span);
-                            (ray, h)
-                        };
+                        let ray = self.camera.ray(i as f32 + ox, y);
+                        let h = self.primary_among(&ray, i, &cull.span);
                         if let Some((t, s)) = h {
-                            // The point of `make_hit`, without the rest of the hit record.
-                            if let (true, Some(e), Some(sphere)) =
-                                (self.shadow_rays, self.eye.get(s), spheres.get(s))
-                            {
-                                let near2 = self.scene.near2(s);
-                                extend(s, hit_point_within(&ray, t, e.f, sphere, near2).0);
+                            if self.shadow_rays {
+                                bound(&ray, t, s);
                             }
-                            // Only a hit is shaded with its ray (`trace_span` kept them all).
-                            if let (false, Some(d)) = (SPHERE_MAJOR, cull.hit_d.get_mut(slot)) {
+                            // Only a hit is shaded with its ray.
+                            if let Some(d) = cull.hit_d.get_mut(slot) {
                                 *d = ray.dir;
                             }
-                        }
-                        if SPHERE_MAJOR {
-                            continue;
                         }
                         let (t, s) = (cull.hit_t.get_mut(slot), cull.hit_s.get_mut(slot));
                         if let (Some(t), Some(s)) = (t, s) {
