@@ -1268,7 +1268,8 @@ struct Cull<const S: usize, const L: usize> {
     /// 18 bytes a pixel, for microcontroller stacks.
     stored: bool,
     /// The same for every sample of a supersampled span, sample `m` of pixel `k` in slot
-    /// `m·SPAN + k` (see [`KEPT`]).
+    /// `m·SPAN + k` (see [`KEPT`]). Apart from `stored` so that a pixel of one sample tests one
+    /// flag, not also the sample count (one flag for both: +0.5% x86 instructions a pixel).
     kept: bool,
     hit_t: [f32; SPAN * KEPT],
     hit_s: [u16; SPAN * KEPT],
