@@ -530,6 +530,105 @@ fn hit_ab_xyz(
     select(if t0 <= t1 { (t0, t1) } else { (t1, t0) }, tmin, tmax)
 }
 
+/// Directions that [`Prepared::hit_lanes`] takes at once: four f32 lanes, one SSE or NEON
+/// register.
+#[cfg(any(
+    target_arch = "x86_64",
+    all(target_arch = "aarch64", target_feature = "neon")
+))]
+pub(crate) const LANES: usize = 4;
+
+/// What [`Prepared::hit_lanes`] found: bit `l` of `hit` set where lane `l` hits (at `t[l]`), of
+/// `redo` where the lane took a rare path (an overflow, `q = 0`) that only the scalar
+/// [`Prepared::hit`] decides.
+#[cfg(any(
+    target_arch = "x86_64",
+    all(target_arch = "aarch64", target_feature = "neon")
+))]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct LaneHits {
+    pub hit: u32,
+    pub redo: u32,
+    pub t: [f32; LANES],
+}
+
+#[cfg(any(
+    target_arch = "x86_64",
+    all(target_arch = "aarch64", target_feature = "neon")
+))]
+impl Prepared {
+    /// [`Prepared::hit`] of `LANES` directions at once (coordinates `dx`, `dy`, `dz`, each lane
+    /// with its own `tmax`), in one vector register: on hosts, where primary rays are most of
+    /// the tests. Each lane does the scalar path's IEEE operations on the same values in the
+    /// same order (no fused multiply-add; negation flips the sign bit, as `-x` does, rather than
+    /// `0 − x`, which differs at zero), and each branch of the scalar path is a selection
+    /// between both arms, so a lane's hit is the scalar hit, bit for bit. Where the scalar path
+    /// leaves its common case (the scaled roots of an overflow, `q = 0`) the lane is marked to
+    /// redo. For constants with a finite `c` and for `tmin ≥ 0`; `hb` is `|c| > r²`, the scalar
+    /// path's choice of discriminant, the same for every lane.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn hit_lanes(
+        &self,
+        hb: bool,
+        dx: [f32; LANES],
+        dy: [f32; LANES],
+        dz: [f32; LANES],
+        tmin: f32,
+        tmax: [f32; LANES],
+    ) -> LaneHits {
+        use wide::{f32x4, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
+        let v = f32x4::splat;
+        let neg = |x: f32x4| x ^ v(-0.0);
+        let (fx, fy, fz) = (v(self.f.x), v(self.f.y), v(self.f.z));
+        let (c, r) = (self.c, self.r);
+        let (cv, cabs, rr) = (v(c), v(libm::fabsf(c)), v(r * r));
+        let (dx, dy, dz) = (f32x4::from(dx), f32x4::from(dy), f32x4::from(dz));
+        let (tmin, tmax, zero, max) = (v(tmin), f32x4::from(tmax), v(0.0), v(f32::MAX));
+        let all = |m: bool| if m { v(f32::from_bits(!0)) } else { zero };
+        // `d.dot(d)`, `f.dot(d)`: the same association as `Vec3::dot`.
+        let a = dx * dx + dy * dy + dz * dz;
+        let b = fx * dx + fy * dy + fz * dz;
+        // `hit_ab_xyz`'s steps, in its order.
+        let bb = b * b;
+        let disc0 = bb - a * cv;
+        let clear_miss = disc0.cmp_lt(neg(bb + a * cabs) * v(1.0 / 262_144.0));
+        let cpos = all(c > 0.0);
+        let behind = cpos & b.cmp_ge(zero) & tmin.cmp_ge(zero);
+        let disc = if hb {
+            let k = b / a;
+            let (lx, ly, lz) = (fx - dx * k, fy - dy * k, fz - dz * k);
+            a * (rr - (lx * lx + ly * ly + lz * lz))
+        } else {
+            disc0
+        };
+        let in_range = zero.cmp_le(disc) & disc.cmp_le(max);
+        let negative = disc.cmp_lt(zero) & disc.abs().cmp_le(max);
+        let s = disc.sqrt();
+        let q = b.cmp_gt(zero).blend(neg(b + s), s - b);
+        // `near_root`
+        let far_ahead = cpos & b.cmp_lt(zero) & s.cmp_lt(v(-0.5) * b);
+        let t0 = far_ahead.blend((neg(b) - s) / a, cv / q);
+        let ok = |t: f32x4| t.cmp_ge(tmin) & t.cmp_le(tmax) & t.cmp_lt(v(f32::INFINITY));
+        let early = q.cmp_gt(zero) & cpos & ok(t0);
+        let t1 = q / a;
+        let ordered = t0.cmp_le(t1);
+        let (near, far) = (ordered.blend(t0, t1), ordered.blend(t1, t0));
+        let take_near = early | ok(near);
+        let t = early.blend(t0, take_near.blend(near, far));
+        let found = take_near | ok(far);
+        let open = !(clear_miss | behind);
+        let q_zero = q.cmp_eq(zero);
+        let redo = open & ((!(in_range | negative)) | (in_range & q_zero));
+        let hit = open & in_range & !q_zero & found;
+        LaneHits {
+            hit: hit.move_mask() as u32,
+            redo: redo.move_mask() as u32,
+            t: t.to_array(),
+        }
+    }
+}
+
 impl Prepared {
     /// Both roots `(near, far)` of the ray along `d`, or `None` when it misses the sphere.
     ///
@@ -793,5 +892,132 @@ pub fn exit_root(f: Vec3, d: Vec3) -> Option<f32> {
         Some(t)
     } else {
         None
+    }
+}
+
+#[cfg(all(
+    test,
+    any(
+        target_arch = "x86_64",
+        all(target_arch = "aarch64", target_feature = "neon")
+    )
+))]
+mod lane_tests {
+    use super::*;
+
+    /// xorshift64*, as tests/common/rng.rs (which unit tests cannot reach).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        }
+        fn unit(&mut self) -> f32 {
+            (self.next() >> 40) as f32 / (1u64 << 24) as f32
+        }
+        /// ±(1 … 10) · 10^e for e in lo..hi.
+        fn mag(&mut self, lo: i32, hi: i32) -> f32 {
+            let e = lo + (self.next() % (hi - lo) as u64) as i32;
+            let v = (1.0 + 9.0 * self.unit()) * libm::powf(10.0, e as f32);
+            if self.next() & 1 == 0 {
+                v
+            } else {
+                -v
+            }
+        }
+        fn vec(&mut self, lo: i32, hi: i32) -> Vec3 {
+            Vec3::new(self.mag(lo, hi), self.mag(lo, hi), self.mag(lo, hi))
+        }
+    }
+
+    /// Every lane of `hit_lanes` is the scalar `hit`, bit for bit, or marked to redo, on rays
+    /// of every scale: far and tiny spheres, origins on, near and inside the surface
+    /// (both discriminants), tangents, zero and huge directions, overflowing constants, and
+    /// `tmax` at the root itself.
+    #[test]
+    fn lanes_are_the_scalar_hit() {
+        let mut g = Rng(0x9e37_79b9_7f4a_7c15);
+        let (mut hits, mut redos, mut near, mut lanes) = (0, 0, 0, 0);
+        let mut ordinary_redos = 0;
+        for case in 0..200_000u32 {
+            let r = g.mag(-4, 5).abs();
+            let m = g.vec(-4, 5);
+            let origin = match case % 4 {
+                // on or just off the surface, where `|c| ≤ r²`
+                0 => m + Vec3::new(r, 0.0, 0.0) * (1.0 + 0.01 * (g.unit() - 0.5)),
+                1 => m + g.vec(-5, 2),
+                // centres near 10¹⁹ (squares overflow) now and then
+                2 if case % 64 == 2 => Vec3::new(3e19, -2e19, 1e19),
+                _ => g.vec(-4, 6),
+            };
+            let k = Prepared::exact(origin, &Sphere::new(m, r));
+            // (An origin that rounded onto the centre has no direction to aim along.)
+            if !finite(k.c) || k.f == Vec3::ZERO {
+                continue;
+            }
+            let hb = libm::fabsf(k.c) > k.r * k.r;
+            near += !hb as u32;
+            let aim = m - origin;
+            let d: [Vec3; LANES] = core::array::from_fn(|l| match (case + l as u32) % 7 {
+                0 => Vec3::ZERO,
+                1 => aim,
+                // towards the rim: tangent or nearly
+                // along a tangent, give or take up to 10⁻⁴ of r: where the two roots, the two
+                // discriminants and the margins of the clear-miss test part ways
+                2 | 4 => {
+                    let (dd, u) = (aim.length(), aim.cross(Vec3::new(0.3, 1.0, 0.1)));
+                    let side = libm::sqrtf(libm::fabsf(dd * dd - r * r)) / dd;
+                    let off = 1.0 + libm::powf(10.0, -4.0 - 3.0 * g.unit()) * (g.unit() - 0.5);
+                    aim * side + u.normalized().unwrap_or(Vec3::ZERO) * (r * off)
+                }
+                3 => g.vec(15, 20),
+                _ => aim + g.vec(-6, 1) * aim.length(),
+            });
+            // (`hit_lanes` takes any tmin; the renderer's is `f32::MIN_POSITIVE`.)
+            let tmin = [0.0, f32::MIN_POSITIVE, -1e3][case as usize % 3];
+            let tmax: [f32; LANES] = core::array::from_fn(|l| match (case / 7 + l as u32) % 4 {
+                0 => f32::INFINITY,
+                // exactly the root: `t ≤ tmax` must hold as in the scalar test
+                1 => k.hit(d[l], tmin, f32::INFINITY).unwrap_or(1.0),
+                2 => g.mag(-3, 4).abs(),
+                _ => f32::NAN,
+            });
+            let h = k.hit_lanes(
+                hb,
+                d.map(|v| v.x),
+                d.map(|v| v.y),
+                d.map(|v| v.z),
+                tmin,
+                tmax,
+            );
+            for l in 0..LANES {
+                lanes += 1;
+                if h.redo & (1 << l) != 0 {
+                    redos += 1;
+                    // Zero and huge directions aside, redoing is the exception.
+                    ordinary_redos += !matches!((case + l as u32) % 7, 0 | 3) as u32;
+                    continue;
+                }
+                let lane = (h.hit & (1 << l) != 0).then(|| h.t[l].to_bits());
+                let scalar = k.hit(d[l], tmin, tmax[l]).map(f32::to_bits);
+                assert_eq!(
+                    lane, scalar,
+                    "case {case} lane {l}: {k:?} d {:?} tmax {}",
+                    d[l], tmax[l]
+                );
+                hits += scalar.is_some() as u32;
+            }
+        }
+        // The sets reach every path: hits, redos (overflow, q = 0) and both discriminants.
+        assert!(
+            hits > lanes / 10 && redos > 0 && near > 1000,
+            "{hits} {redos} {near} {lanes}"
+        );
+        assert!(
+            ordinary_redos < lanes / 1000,
+            "{ordinary_redos} of {lanes} lanes redone"
+        );
     }
 }

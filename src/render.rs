@@ -752,6 +752,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             *t = f32::INFINITY;
             *s = NONE;
         }
+        // Hosts with f32 vector registers: `LANES` columns at a time.
+        #[cfg(any(
+            target_arch = "x86_64",
+            all(target_arch = "aarch64", target_feature = "neon")
+        ))]
+        {
+            self.trace_lanes(dirs, ts, ss, &cull.span, i0, i1);
+            return;
+        }
+        #[allow(unreachable_code)]
         for &sphere in &cull.span {
             let (Some(b), Some(k)) = (
                 self.boxes.get(sphere as usize),
@@ -775,6 +785,91 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     *s = sphere;
                 }
             }
+        }
+    }
+
+    /// `trace_span`'s sphere loop `LANES` columns at a time ([`Prepared::hit_lanes`]): the same
+    /// tests in the same order, so the same hits. The directions are copied into one array per
+    /// coordinate, padded to whole lanes, so that a lane group is three plain loads.
+    #[cfg(any(
+        target_arch = "x86_64",
+        all(target_arch = "aarch64", target_feature = "neon")
+    ))]
+    #[inline(always)]
+    fn trace_lanes(
+        &self,
+        dirs: &[Vec3],
+        ts: &mut [f32],
+        ss: &mut [u16],
+        span: &[u16],
+        i0: u32,
+        i1: u32,
+    ) {
+        use crate::geometry::LANES;
+        use crate::math::finite;
+        const PAD: usize = SPAN + LANES - 1;
+        let (mut dx, mut dy, mut dz) = ([0.0f32; PAD], [0.0f32; PAD], [0.0f32; PAD]);
+        let (mut t, mut sp) = ([f32::INFINITY; PAD], [NONE; PAD]);
+        for (k, d) in dirs.iter().enumerate().take(SPAN) {
+            (dx[k], dy[k], dz[k]) = (d.x, d.y, d.z);
+        }
+        for &sphere in span {
+            let (Some(b), Some(k)) = (
+                self.boxes.get(sphere as usize),
+                self.eye.get(sphere as usize),
+            ) else {
+                continue;
+            };
+            let lo = ((b.i0 as u32).max(i0) - i0) as usize;
+            let hi = ((b.i1 as u32 + 1).min(i1).saturating_sub(i0) as usize).min(SPAN);
+            if !finite(k.c) {
+                // Overflowing constants: the scalar path, whose scaled roots handle them.
+                for m in lo..hi {
+                    let d = Vec3::new(dx[m], dy[m], dz[m]);
+                    if let Some(hit) = k.hit(d, T_EPS, t[m]) {
+                        (t[m], sp[m]) = (hit, sphere);
+                    }
+                }
+                continue;
+            }
+            let hb = libm::fabsf(k.c) > k.r * k.r;
+            let mut m = lo;
+            while m < hi {
+                let lanes = |a: &[f32; PAD]| -> [f32; LANES] {
+                    core::array::from_fn(|l| a.get(m + l).copied().unwrap_or(0.0))
+                };
+                let (x, y, z, tm) = (lanes(&dx), lanes(&dy), lanes(&dz), lanes(&t));
+                let h = k.hit_lanes(hb, x, y, z, T_EPS, tm);
+                // Lanes past the box's last column are not its to change.
+                let valid = if hi - m >= LANES {
+                    (1 << LANES) - 1
+                } else {
+                    (1u32 << (hi - m)) - 1
+                };
+                let (hit, redo) = (h.hit & valid, h.redo & valid);
+                for l in 0..LANES {
+                    if hit & (1 << l) != 0 {
+                        if let (Some(tt), Some(ss)) = (t.get_mut(m + l), sp.get_mut(m + l)) {
+                            (*tt, *ss) = (h.t[l], sphere);
+                        }
+                    }
+                }
+                if redo != 0 {
+                    for l in 0..LANES {
+                        if redo & (1 << l) != 0 {
+                            let q = m + l;
+                            let d = Vec3::new(dx[q], dy[q], dz[q]);
+                            if let Some(hit) = k.hit(d, T_EPS, t[q]) {
+                                (t[q], sp[q]) = (hit, sphere);
+                            }
+                        }
+                    }
+                }
+                m += LANES;
+            }
+        }
+        for (k, (tt, s)) in ts.iter_mut().zip(ss.iter_mut()).enumerate().take(SPAN) {
+            (*tt, *s) = (t[k], sp[k]);
         }
     }
 
