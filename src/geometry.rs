@@ -532,19 +532,13 @@ fn hit_ab_xyz(
 
 /// Directions that [`Prepared::hit_lanes`] takes at once: four f32 lanes, one SSE or NEON
 /// register.
-#[cfg(any(
-    target_arch = "x86_64",
-    all(target_arch = "aarch64", target_feature = "neon")
-))]
+#[cfg(lanes)]
 pub(crate) const LANES: usize = 4;
 
 /// What [`Prepared::hit_lanes`] found: bit `l` of `hit` set where lane `l` hits (at `t[l]`), of
 /// `redo` where the lane took a rare path (an overflow, `q = 0`) that only the scalar
 /// [`Prepared::hit`] decides.
-#[cfg(any(
-    target_arch = "x86_64",
-    all(target_arch = "aarch64", target_feature = "neon")
-))]
+#[cfg(lanes)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct LaneHits {
     pub hit: u32,
@@ -552,10 +546,7 @@ pub(crate) struct LaneHits {
     pub t: [f32; LANES],
 }
 
-#[cfg(any(
-    target_arch = "x86_64",
-    all(target_arch = "aarch64", target_feature = "neon")
-))]
+#[cfg(lanes)]
 impl Prepared {
     /// [`Prepared::hit`] of `LANES` directions at once (coordinates `dx`, `dy`, `dz`, each lane
     /// with its own `tmax`), in one vector register: on hosts, where primary rays are most of
@@ -895,13 +886,7 @@ pub fn exit_root(f: Vec3, d: Vec3) -> Option<f32> {
     }
 }
 
-#[cfg(all(
-    test,
-    any(
-        target_arch = "x86_64",
-        all(target_arch = "aarch64", target_feature = "neon")
-    )
-))]
+#[cfg(all(test, lanes))]
 mod lane_tests {
     use super::*;
 

@@ -753,10 +753,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             *s = NONE;
         }
         // Hosts with f32 vector registers: `LANES` columns at a time.
-        #[cfg(any(
-            target_arch = "x86_64",
-            all(target_arch = "aarch64", target_feature = "neon")
-        ))]
+        #[cfg(lanes)]
         {
             self.trace_lanes(dirs, ts, ss, &cull.span, i0, i1);
             return;
@@ -791,10 +788,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// `trace_span`'s sphere loop `LANES` columns at a time ([`Prepared::hit_lanes`]): the same
     /// tests in the same order, so the same hits. The directions are copied into one array per
     /// coordinate, padded to whole lanes, so that a lane group is three plain loads.
-    #[cfg(any(
-        target_arch = "x86_64",
-        all(target_arch = "aarch64", target_feature = "neon")
-    ))]
+    #[cfg(lanes)]
     #[inline(always)]
     fn trace_lanes(
         &self,
