@@ -174,6 +174,30 @@ impl Camera {
         Ray::new(self.eye, self.direction(x, y).normalize_fast())
     }
 
+    /// `ray(x[l], y).dir` for four image points of one row, in vector lanes (`cfg(lanes)`):
+    /// `direction`'s operations and `normalize_fast`'s, lane by lane, so the same bits.
+    #[cfg(lanes)]
+    #[inline(always)]
+    pub(crate) fn directions4(&self, x: [f32; 4], y: f32) -> [[f32; 4]; 3] {
+        use wide::f32x4 as F;
+        let px = F::from(x) * F::splat(self.sx) - F::splat(self.ox);
+        let py = F::splat(self.oy - y * self.sy);
+        let (u, v, w) = (self.u, self.v, self.w);
+        // `(w + u·px) + v·py`, `direction`'s association.
+        let axis = |w: f32, u: f32, v: f32| F::splat(w) + F::splat(u) * px + F::splat(v) * py;
+        let (dx, dy, dz) = (
+            axis(w.x, u.x, v.x),
+            axis(w.y, u.y, v.y),
+            axis(w.z, u.z, v.z),
+        );
+        let len = (dx * dx + dy * dy + dz * dz).sqrt();
+        [
+            (dx / len).to_array(),
+            (dy / len).to_array(),
+            (dz / len).to_array(),
+        ]
+    }
+
     /// The ray for sample `(sx, sy)` of an `samples`×`samples` grid in pixel `(i, j)`: the
     /// lecture's view ray, at `x = i + (sx + 0.5)/samples`, `y = j + (sy + 0.5)/samples`.
     ///
@@ -199,4 +223,44 @@ impl Camera {
 #[inline]
 pub(crate) fn sample_offset(s: u32, samples: u32) -> f32 {
     (s as f32 + 0.5) / samples as f32
+}
+
+#[cfg(all(test, lanes))]
+mod tests {
+    use super::*;
+
+    /// `directions4` is `ray(x, y).dir`, bit for bit, lane by lane, for cameras of every
+    /// orientation, field of view and image size, at pixel centres and supersample offsets.
+    #[test]
+    fn lane_directions_are_the_scalar_ones() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut unit = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut checked = 0;
+        for _ in 0..2000 {
+            let mut v = || Vec3::new(unit() - 0.5, unit() - 0.5, unit() - 0.5) * 20.0;
+            let (eye, at, up) = (v(), v(), v());
+            let (w, h) = (1 + (unit() * 2000.0) as u32, 1 + (unit() * 2000.0) as u32);
+            let Ok(cam) = Camera::new(eye, at, up, 1.0 + unit() * 170.0, w, h) else {
+                continue;
+            };
+            let y = (unit() * h as f32).floor() + unit();
+            let x0 = (unit() * w as f32).floor() + 0.5;
+            let x = [x0, x0 + 1.0, x0 + 2.25, x0 + 3.0];
+            let lanes = cam.directions4(x, y);
+            for (l, &x) in x.iter().enumerate() {
+                let d = cam.ray(x, y).dir;
+                let lane = Vec3::new(lanes[0][l], lanes[1][l], lanes[2][l]);
+                assert_eq!(lane.x.to_bits(), d.x.to_bits(), "{cam:?} ({x}, {y})");
+                assert_eq!(lane.y.to_bits(), d.y.to_bits(), "{cam:?} ({x}, {y})");
+                assert_eq!(lane.z.to_bits(), d.z.to_bits(), "{cam:?} ({x}, {y})");
+                checked += 1;
+            }
+        }
+        assert!(checked > 4000, "{checked}");
+    }
 }

@@ -742,6 +742,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         ) else {
             return;
         };
+        // Hosts with f32 vector registers: `LANES` columns at a time.
+        #[cfg(lanes)]
+        {
+            self.trace_lanes(dirs, ts, ss, &cull.span, (i0, i1, ox, y));
+            return;
+        }
+        #[allow(unreachable_code)]
         for ((d, t), (s, i)) in dirs
             .iter_mut()
             .zip(ts.iter_mut())
@@ -752,13 +759,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             *t = f32::INFINITY;
             *s = NONE;
         }
-        // Hosts with f32 vector registers: `LANES` columns at a time.
-        #[cfg(lanes)]
-        {
-            self.trace_lanes(dirs, ts, ss, &cull.span, i0, i1);
-            return;
-        }
-        #[allow(unreachable_code)]
         for &sphere in &cull.span {
             let (Some(b), Some(k)) = (
                 self.boxes.get(sphere as usize),
@@ -785,27 +785,44 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
     }
 
-    /// `trace_span`'s sphere loop `LANES` columns at a time ([`Prepared::hit_lanes`]): the same
-    /// tests in the same order, so the same hits. The directions are copied into one array per
-    /// coordinate, padded to whole lanes, so that a lane group is three plain loads.
+    /// `trace_span` `LANES` columns at a time: the view directions
+    /// ([`Camera::directions4`]) and the sphere loop ([`Prepared::hit_lanes`]), the same
+    /// operations and tests in the same order, so the same directions and hits. The directions
+    /// are kept in one array per coordinate too, padded to whole lanes, so that a lane group is
+    /// three plain loads.
     #[cfg(lanes)]
     #[inline(always)]
     fn trace_lanes(
         &self,
-        dirs: &[Vec3],
+        dirs: &mut [Vec3],
         ts: &mut [f32],
         ss: &mut [u16],
         span: &[u16],
-        i0: u32,
-        i1: u32,
+        (i0, i1, ox, y): (u32, u32, f32, f32),
     ) {
         use crate::geometry::LANES;
         use crate::math::finite;
         const PAD: usize = SPAN + LANES - 1;
         let (mut dx, mut dy, mut dz) = ([0.0f32; PAD], [0.0f32; PAD], [0.0f32; PAD]);
         let (mut t, mut sp) = ([f32::INFINITY; PAD], [NONE; PAD]);
-        for (k, d) in dirs.iter().enumerate().take(SPAN) {
-            (dx[k], dy[k], dz[k]) = (d.x, d.y, d.z);
+        for (m, chunk) in dirs.chunks_mut(LANES).enumerate().take(SPAN / LANES) {
+            let m = m * LANES;
+            // `view_ray(i, j, sx, sy, n)`: pixel column i at `i + ox`.
+            let x = core::array::from_fn(|l| (i0 + (m + l) as u32) as f32 + ox);
+            let [x, y, z] = self.camera.directions4(x, y);
+            for (l, d) in chunk.iter_mut().enumerate() {
+                *d = Vec3::new(x[l], y[l], z[l]);
+            }
+            let lanes = m..m + LANES;
+            if let (Some(a), Some(b), Some(c)) = (
+                dx.get_mut(lanes.clone()),
+                dy.get_mut(lanes.clone()),
+                dz.get_mut(lanes),
+            ) {
+                a.copy_from_slice(&x);
+                b.copy_from_slice(&y);
+                c.copy_from_slice(&z);
+            }
         }
         for &sphere in span {
             let (Some(b), Some(k)) = (
