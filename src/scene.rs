@@ -162,8 +162,8 @@ impl Hit {
 pub struct Scene<const S: usize, const L: usize> {
     spheres: heapless::Vec<Sphere, S>,
     materials: heapless::Vec<Material, S>,
-    /// Per sphere, [`near2`] of its material.
-    near2: heapless::Vec<f32, S>,
+    /// Per sphere, what shading derives from its material, once.
+    derived: heapless::Vec<Derived, S>,
     lights: heapless::Vec<Light, L>,
     ambient: Color,
     background: Color,
@@ -175,6 +175,17 @@ impl<const S: usize, const L: usize> Default for Scene<S, L> {
     fn default() -> Self {
         Self::new()
     }
+}
+
+/// What shading derives from a sphere's material, once when the sphere is added rather than at
+/// every hit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Derived {
+    /// [`near2`] of the material.
+    near2: f32,
+    /// Bit 0: `k_s ≠ 0` (the hit needs the view vector and a highlight per light); bit 1:
+    /// `k_m ≠ 0` (the hit sends a mirror ray).
+    flags: u8,
 }
 
 /// `(distance/radius)²` from the ray origin up to which `f + t·d` gives a hit offset accurate
@@ -201,6 +212,8 @@ fn near2(m: &Material) -> f32 {
     k * k
 }
 
+// Out of line: set-up calls it for every colour, and one copy is what small flash prefers.
+#[inline(never)]
 fn check_color(c: Color) -> Result<Color, Error> {
     if c.is_finite() && c.x >= 0.0 && c.y >= 0.0 && c.z >= 0.0 {
         Ok(c)
@@ -229,7 +242,7 @@ impl<const S: usize, const L: usize> Scene<S, L> {
         Scene {
             spheres: heapless::Vec::new(),
             materials: heapless::Vec::new(),
-            near2: heapless::Vec::new(),
+            derived: heapless::Vec::new(),
             lights: heapless::Vec::new(),
             ambient: Color::ZERO,
             background: Color::ZERO,
@@ -263,7 +276,11 @@ impl<const S: usize, const L: usize> Scene<S, L> {
             .map_err(|_| Error::TooManySpheres)?;
         // The vectors have capacity S and grow together, so these pushes cannot fail.
         let _ = self.materials.push(material);
-        let _ = self.near2.push(near2(&material));
+        let (specular, mirror) = (!material.specular.is_zero(), !material.mirror.is_zero());
+        let _ = self.derived.push(Derived {
+            near2: near2(&material),
+            flags: specular as u8 | (mirror as u8) << 1,
+        });
         Ok(self.spheres.len() - 1)
     }
 
@@ -382,7 +399,19 @@ impl<const S: usize, const L: usize> Scene<S, L> {
     /// for its material (see [`near2`]).
     #[inline]
     pub(crate) fn near2(&self, i: usize) -> f32 {
-        self.near2.get(i).copied().unwrap_or(NEAR2_MIN)
+        self.derived.get(i).map_or(NEAR2_MIN, |d| d.near2)
+    }
+
+    /// Whether sphere `i`'s material has a highlight (`k_s ≠ 0`).
+    #[inline]
+    pub(crate) fn has_specular(&self, i: usize) -> bool {
+        self.derived.get(i).is_some_and(|d| d.flags & 1 != 0)
+    }
+
+    /// Whether sphere `i`'s material is a mirror (`k_m ≠ 0`).
+    #[inline]
+    pub(crate) fn has_mirror(&self, i: usize) -> bool {
+        self.derived.get(i).is_some_and(|d| d.flags & 2 != 0)
     }
 
     /// The lights (directional ones with unit direction).

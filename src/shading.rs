@@ -188,7 +188,7 @@ pub(crate) fn shade_lit<const S: usize, const L: usize>(
     };
     let n = hit.normal;
     let mut colour = m.diffuse.mul_elem(scene.ambient());
-    let has_specular = !m.specular.is_zero();
+    let has_specular = scene.has_specular(hit.sphere);
     // Only a highlight needs the view vector (and only when there is a light).
     let v = if has_specular && !scene.lights().is_empty() {
         -dir.normalize_fast()
@@ -327,13 +327,13 @@ pub(crate) fn follow<const S: usize, const L: usize>(
         return scene.background();
     };
     let colour = local(&h, primary);
+    if !scene.has_mirror(h.sphere) || scene.max_depth() == 0 {
+        return colour;
+    }
     let km = scene
         .materials()
         .get(h.sphere)
         .map_or(Color::ZERO, |m| m.mirror);
-    if km.is_zero() || scene.max_depth() == 0 {
-        return colour;
-    }
     bounce(scene, primary, &h, colour, km, &mut local)
 }
 
