@@ -119,6 +119,30 @@ pub fn primary_frame(dirs: &[Vec3], prepared: &[Prepared]) -> f32 {
     acc
 }
 
+/// [`primary_frame`] four directions at a time (`Prepared::hit4`, in vector lanes on hosts
+/// that have them): the same tests and hits. A trailing remainder of fewer than four is left
+/// out (the timing sets are multiples of four). Host only: the firmware's numbench does not
+/// count it (Cortex-M has no f32 vectors; `hit4` is the scalar test there).
+#[allow(dead_code)]
+#[inline(never)]
+pub fn primary_frame4(dirs: &[Vec3], prepared: &[Prepared]) -> f32 {
+    let mut acc = 0.0;
+    for d in dirs.chunks_exact(4) {
+        let d: &[Vec3; 4] = d.try_into().unwrap_or(&[Vec3::ZERO; 4]);
+        for k in prepared {
+            let inf = f32::INFINITY;
+            for t in core::hint::black_box(k)
+                .hit4(d, f32::MIN_POSITIVE, [inf; 4])
+                .into_iter()
+                .flatten()
+            {
+                acc += t;
+            }
+        }
+    }
+    acc
+}
+
 /// Every shadow-like ray `(origin, direction, sphere left)` against every sphere but the one it
 /// leaves (microray leaves it through its exit root); `f` gets the ray's origin as one point
 /// (`o`) and as the hit's centre and offset (`anchor`, `rel`), as microray's shading has it, and
