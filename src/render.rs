@@ -38,7 +38,7 @@ use crate::error::Error;
 use crate::geometry::{hit_point_within, Prepared, Ray};
 use crate::math::{powf, Color, Vec3};
 use crate::raster::{PixelBox, Screen, ETA};
-use crate::scene::{make_hit, Hit, Light, Scene};
+use crate::scene::{hit_from_offset, make_hit, Hit, Light, Scene};
 use crate::shading::{follow, in_shadow_among, shade_lit, T_EPS};
 
 /// How linear colour becomes a byte.
@@ -364,6 +364,35 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         ))
     }
 
+    /// [`Frame::eye_hit`] with the hit's offset from the centre already computed (by the span's
+    /// bounds, `hit_point_within` of the same arguments): the same hit record.
+    #[inline]
+    fn eye_hit_at(&self, ray: &Ray, t: f32, s: usize, offset: Vec3) -> Option<Hit> {
+        let sphere = self.scene.spheres().get(s)?;
+        Some(hit_from_offset(
+            ray.dir,
+            t,
+            s,
+            sphere,
+            offset,
+            ray.origin,
+            Vec3::ZERO,
+        ))
+    }
+
+    /// The hit record of the span's kept primary hit in `slot` along `ray`, from the offset the
+    /// span's bounds computed: only where there is room to keep it (`OFFS`) and bounds were
+    /// built (shadow rays: `culled`; the spans that keep hits trace them sphere by sphere
+    /// wherever `OFFS` is not 0). Its callers test that first, so that Cortex-M, where `OFFS` is
+    /// 0, compiles the plain `eye_hit` alone.
+    #[inline]
+    fn kept_hit(&self, ray: &Ray, t: f32, s: usize, slot: usize, cull: &Cull<S, L>) -> Option<Hit> {
+        match cull.hit_o.get(slot) {
+            Some(&offset) => self.eye_hit_at(ray, t, s, offset),
+            None => self.eye_hit(ray, t, s),
+        }
+    }
+
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).
     #[inline]
     fn light_consts(&self, i: usize, light: &Light) -> Option<&[f32]> {
@@ -577,7 +606,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 None => self.camera.view_ray(i, j, 0, 0, 1),
             };
             // The hit record from (t, sphere): `make_hit` is a pure function of them.
-            let first = self.eye_hit(&ray, t, s as usize);
+            let first = if OFFS > 0 && SPHERE_MAJOR && cull.culled {
+                self.kept_hit(&ray, t, s as usize, k, cull)
+            } else {
+                self.eye_hit(&ray, t, s as usize)
+            };
             self.shade_from(&ray, first, shadow)
         } else if KEPT > 1 && cull.kept {
             let k = (i - cull.span_start) as usize;
@@ -621,7 +654,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 self.camera.view_ray(i, j, m % n, m / n, n)
             }
         };
-        let first = self.eye_hit(&ray, t, s as usize);
+        let first = if OFFS > 0 && SPHERE_MAJOR && cull.culled {
+            self.kept_hit(&ray, t, s as usize, slot, cull)
+        } else {
+            self.eye_hit(&ray, t, s as usize)
+        };
         self.shade_from(&ray, first, shadow)
     }
 
@@ -965,10 +1002,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let n = self.samples;
             // The point of `make_hit`, without the rest of the hit record, joins the bounds.
             let mut bound = |ray: &Ray, t: f32, s: usize| {
-                if let (Some(e), Some(sphere)) = (self.eye.get(s), spheres.get(s)) {
-                    let near2 = self.scene.near2(s);
-                    extend(s, hit_point_within(ray, t, e.f, sphere, near2).0);
-                }
+                let (Some(e), Some(sphere)) = (self.eye.get(s), spheres.get(s)) else {
+                    return Vec3::ZERO;
+                };
+                let near2 = self.scene.near2(s);
+                let (point, offset) = hit_point_within(ray, t, e.f, sphere, near2);
+                extend(s, point);
+                offset
             };
             for sy in 0..n {
                 let y = j as f32 + sample_offset(sy, n);
@@ -989,7 +1029,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                 if let (Some((t, s)), Some(&dir)) =
                                     (cull.hit(slot), cull.hit_d.get(slot))
                                 {
-                                    bound(&Ray::new(self.camera.eye(), dir), t, s as usize);
+                                    let o = bound(&Ray::new(self.camera.eye(), dir), t, s as usize);
+                                    if let (true, Some(h)) = (OFFS > 0, cull.hit_o.get_mut(slot)) {
+                                        *h = o;
+                                    }
                                 }
                             }
                         }
@@ -1003,7 +1046,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         let h = self.primary_among(&ray, i, &cull.span);
                         if let Some((t, s)) = h {
                             if self.shadow_rays {
-                                bound(&ray, t, s);
+                                let _ = bound(&ray, t, s);
                             }
                             // Only a hit is shaded with its ray.
                             if let Some(d) = cull.hit_d.get_mut(slot) {
@@ -1134,6 +1177,10 @@ const KEPT: usize = if cfg!(target_arch = "arm") { 1 } else { 4 };
 /// Whether a span traces its primary rays sphere by sphere (`Frame::trace_span`), which needs
 /// room for every pixel's view direction; on soft-float Arm, with none, pixel by pixel.
 const SPHERE_MAJOR: bool = DIRS >= SPAN;
+/// Kept hits whose offset from the centre the span keeps from its bounds for shading, which
+/// spares `make_hit` computing it again: all on hosts with f32 vectors (`cfg(lanes)`), none on
+/// Cortex-M, whose render stack has no room for 12 more bytes a pixel.
+const OFFS: usize = if cfg!(lanes) { SPAN * KEPT } else { 0 };
 /// A light's pool range when it must test every sphere (empty as `a..b`: `a > b`).
 const ALL: (u16, u16) = (u16::MAX, 0);
 
@@ -1380,6 +1427,9 @@ struct Cull<const S: usize, const L: usize> {
     hit_t: [f32; SPAN * KEPT],
     hit_s: [u16; SPAN * KEPT],
     hit_d: [Vec3; DIRS],
+    /// Where `culled`, each kept hit's offset from its sphere's centre, which the span's bounds
+    /// computed (see [`OFFS`]).
+    hit_o: [Vec3; OFFS],
     /// The pixel of every primary ray that hits nothing.
     miss: Rgb888,
 }
@@ -1401,6 +1451,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             hit_t: [0.0; SPAN * KEPT],
             hit_s: [0; SPAN * KEPT],
             hit_d: [Vec3::ZERO; DIRS],
+            hit_o: [Vec3::ZERO; OFFS],
             miss: Rgb888::new(0, 0, 0),
         }
     }

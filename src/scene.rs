@@ -559,6 +559,23 @@ fn make_hit_xyz(
     // The offset from the centre is computed directly (see `hit_point`): unlike
     // `point − centre` it does not lose the low bits of a point far from the origin.
     let (_, offset) = hit_point_within(&ray, t, f, sphere, near2);
+    hit_from_offset(ray.dir, t, i, sphere, offset, origin, path)
+}
+
+/// The rest of [`make_hit`] once the hit's offset from the centre is known: for the renderer,
+/// which has computed the offset already for its shadow bounds (`hit_point_within` of the same
+/// arguments, so the same bits).
+#[inline(always)]
+pub(crate) fn hit_from_offset(
+    dir: Vec3,
+    t: f32,
+    i: usize,
+    sphere: &Sphere,
+    offset: Vec3,
+    origin: Vec3,
+    path: Vec3,
+) -> Hit {
+    let ray = Ray::new(Vec3::ZERO, dir);
     let outward = offset / sphere.radius;
     let path = path + ray.dir * t;
     // |offset| = r: the shorter vector by one comparison of squares.
