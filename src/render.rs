@@ -364,11 +364,19 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         ))
     }
 
-    /// [`Frame::eye_hit`] with the hit's offset from the centre already computed (by the span's
-    /// bounds, `hit_point_within` of the same arguments): the same hit record.
+    /// The hit record of the span's kept primary hit in `slot` along `ray` where spans keep
+    /// offsets (`OFFS`, hosts): [`Frame::eye_hit`], with the hit's offset from the centre taken
+    /// from the span's bounds where they were built (shadow rays: `culled`), which computed
+    /// `hit_point_within` of the same arguments, so the same hit record. One copy of the rest
+    /// of `make_hit` for both cases. Its callers test `OFFS` first, so that Cortex-M, where it
+    /// is 0, compiles the plain `eye_hit` alone.
     #[inline]
-    fn eye_hit_at(&self, ray: &Ray, t: f32, s: usize, offset: Vec3) -> Option<Hit> {
-        let sphere = self.scene.spheres().get(s)?;
+    fn kept_hit(&self, ray: &Ray, t: f32, s: usize, slot: usize, cull: &Cull<S, L>) -> Option<Hit> {
+        let (k, sphere) = (self.eye.get(s)?, self.scene.spheres().get(s)?);
+        let offset = match cull.hit_o.get(slot) {
+            Some(&offset) if cull.culled => offset,
+            _ => hit_point_within(ray, t, k.f, sphere, self.scene.near2(s)).1,
+        };
         Some(hit_from_offset(
             ray.dir,
             t,
@@ -378,19 +386,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             ray.origin,
             Vec3::ZERO,
         ))
-    }
-
-    /// The hit record of the span's kept primary hit in `slot` along `ray`, from the offset the
-    /// span's bounds computed: only where there is room to keep it (`OFFS`) and bounds were
-    /// built (shadow rays: `culled`; the spans that keep hits trace them sphere by sphere
-    /// wherever `OFFS` is not 0). Its callers test that first, so that Cortex-M, where `OFFS` is
-    /// 0, compiles the plain `eye_hit` alone.
-    #[inline]
-    fn kept_hit(&self, ray: &Ray, t: f32, s: usize, slot: usize, cull: &Cull<S, L>) -> Option<Hit> {
-        match cull.hit_o.get(slot) {
-            Some(&offset) => self.eye_hit_at(ray, t, s, offset),
-            None => self.eye_hit(ray, t, s),
-        }
     }
 
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).
@@ -606,7 +601,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 None => self.camera.view_ray(i, j, 0, 0, 1),
             };
             // The hit record from (t, sphere): `make_hit` is a pure function of them.
-            let first = if OFFS > 0 && SPHERE_MAJOR && cull.culled {
+            let first = if OFFS > 0 && SPHERE_MAJOR {
                 self.kept_hit(&ray, t, s as usize, k, cull)
             } else {
                 self.eye_hit(&ray, t, s as usize)
@@ -654,7 +649,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 self.camera.view_ray(i, j, m % n, m / n, n)
             }
         };
-        let first = if OFFS > 0 && SPHERE_MAJOR && cull.culled {
+        let first = if OFFS > 0 && SPHERE_MAJOR {
             self.kept_hit(&ray, t, s as usize, slot, cull)
         } else {
             self.eye_hit(&ray, t, s as usize)
