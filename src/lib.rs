@@ -2,6 +2,9 @@
 //!
 //! A sphere ray tracer for microcontrollers that desktops can use too: `#![no_std]`, no heap,
 //! every float function from [`libm`] so that a Cortex-M computes the same pixels as the host.
+//! The exceptions are instructions that return the same bits: `vsqrt.f32` on a Cortex-M4F, and
+//! on x86-64 and AArch64 the vector lanes (`wide`'s f32x4: IEEE add, multiply, divide and
+//! square root, no fused multiply-add) in which the renderer traces four primary rays at once.
 //!
 //! The layers, each one module: [`math`] → [`geometry`] (rays, spheres, intersection) →
 //! [`scene`] → [`camera`] → [`shading`] (the shading model) → [`render`] (frames, bands,
