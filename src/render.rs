@@ -774,10 +774,18 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         ) else {
             return;
         };
-        // Hosts with f32 vector registers: `LANES` columns at a time.
+        // Hosts with f32 vector registers: `LANES` columns at a time, and with shadow rays the
+        // hit points for the span's bounds too.
         #[cfg(lanes)]
         {
-            self.trace_lanes(dirs, ts, ss, &cull.span, (i0, i1, ox, y));
+            let (Some(ps), Some(os)) = (
+                cull.hit_p.get_mut(base..base + len),
+                cull.hit_o.get_mut(base..base + len),
+            ) else {
+                return;
+            };
+            let points = self.shadow_rays.then_some((ps, os));
+            self.trace_lanes(dirs, ts, ss, points, &cull.span, (i0, i1, ox, y));
             return;
         }
         #[allow(unreachable_code)]
@@ -829,6 +837,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         dirs: &mut [Vec3],
         ts: &mut [f32],
         ss: &mut [u16],
+        points: Option<(&mut [Vec3], &mut [Vec3])>,
         span: &[u16],
         (i0, i1, ox, y): (u32, u32, f32, f32),
     ) {
@@ -914,6 +923,93 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         for (k, (tt, s)) in ts.iter_mut().zip(ss.iter_mut()).enumerate().take(SPAN) {
             (*tt, *s) = (t[k], sp[k]);
         }
+        if let Some((ps, os)) = points {
+            self.hit_points_lanes(ps, os, (&dx, &dy, &dz), &t, &sp);
+        }
+    }
+
+    /// `hit_point_within` of every hit of a span (its point and offset, as `make_hit` and the
+    /// span's bounds compute them) into `ps` and `os`: four at a time where four neighbouring
+    /// columns hit one sphere on `f + t·d`'s side of `near2` (the same operations lane by lane,
+    /// so the same bits), else one by one.
+    #[cfg(lanes)]
+    #[inline(always)]
+    fn hit_points_lanes<const PAD: usize>(
+        &self,
+        ps: &mut [Vec3],
+        os: &mut [Vec3],
+        (dx, dy, dz): (&[f32; PAD], &[f32; PAD], &[f32; PAD]),
+        t: &[f32; PAD],
+        sp: &[u16; PAD],
+    ) {
+        use crate::geometry::LANES;
+        use wide::f32x4 as F;
+        let eye = self.camera.eye();
+        let spheres = self.scene.spheres();
+        let one = |m: usize, ps: &mut [Vec3], os: &mut [Vec3]| {
+            let s = sp[m] as usize;
+            if let (Some(k), Some(sphere), Some(p), Some(o)) = (
+                self.eye.get(s),
+                spheres.get(s),
+                ps.get_mut(m),
+                os.get_mut(m),
+            ) {
+                let ray = Ray::new(eye, Vec3::new(dx[m], dy[m], dz[m]));
+                (*p, *o) = hit_point_within(&ray, t[m], k.f, sphere, self.scene.near2(s));
+            }
+        };
+        let len = ps.len().min(os.len());
+        let mut m = 0;
+        while m < len {
+            let s = sp[m];
+            let whole = m + LANES <= len && sp[m..m + LANES].iter().all(|&x| x == s);
+            let near = whole
+                && match (self.eye.get(s as usize), spheres.get(s as usize)) {
+                    // `hit_point_within`'s choice for this sphere: `f + t·d` within near2 radii.
+                    (Some(k), Some(sphere)) => {
+                        let r = sphere.radius;
+                        k.f.dot(k.f) <= self.scene.near2(s as usize) * (r * r)
+                    }
+                    _ => false,
+                };
+            if !near {
+                let end = if whole { m + LANES } else { m + 1 };
+                for (q, &sq) in sp.iter().enumerate().take(end.min(len)).skip(m) {
+                    if sq != NONE {
+                        one(q, ps, os);
+                    }
+                }
+                m = end;
+                continue;
+            }
+            let Some(k) = self.eye.get(s as usize) else {
+                m += LANES;
+                continue;
+            };
+            let lanes =
+                |a: &[f32; PAD]| F::from(core::array::from_fn::<f32, LANES, _>(|l| a[m + l]));
+            let (x, y, z, tt) = (lanes(dx), lanes(dy), lanes(dz), lanes(t));
+            // `ray.at(t)` = eye + d·t and `f + d·t`, coordinate by coordinate.
+            let (px, py, pz) = (
+                F::splat(eye.x) + x * tt,
+                F::splat(eye.y) + y * tt,
+                F::splat(eye.z) + z * tt,
+            );
+            let (ox, oy, oz) = (
+                F::splat(k.f.x) + x * tt,
+                F::splat(k.f.y) + y * tt,
+                F::splat(k.f.z) + z * tt,
+            );
+            let (px, py, pz) = (px.to_array(), py.to_array(), pz.to_array());
+            let (ox, oy, oz) = (ox.to_array(), oy.to_array(), oz.to_array());
+            for l in 0..LANES {
+                if let (Some(p), Some(o)) = (ps.get_mut(m + l), os.get_mut(m + l)) {
+                    *p = Vec3::new(px[l], py[l], pz[l]);
+                    *o = Vec3::new(ox[l], oy[l], oz[l]);
+                }
+            }
+            m += LANES;
+        }
     }
 
     /// Gathers the span `[span_start, span_end)` of row `j`: its spheres from the row's, then
@@ -996,14 +1092,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             // of `Camera::view_ray`) are hoisted.
             let n = self.samples;
             // The point of `make_hit`, without the rest of the hit record, joins the bounds.
-            let mut bound = |ray: &Ray, t: f32, s: usize| {
-                let (Some(e), Some(sphere)) = (self.eye.get(s), spheres.get(s)) else {
-                    return Vec3::ZERO;
-                };
-                let near2 = self.scene.near2(s);
-                let (point, offset) = hit_point_within(ray, t, e.f, sphere, near2);
-                extend(s, point);
-                offset
+            let point = |ray: &Ray, t: f32, s: usize| {
+                let (e, sphere) = (self.eye.get(s)?, spheres.get(s)?);
+                Some(hit_point_within(ray, t, e.f, sphere, self.scene.near2(s)))
             };
             for sy in 0..n {
                 let y = j as f32 + sample_offset(sy, n);
@@ -1019,14 +1110,23 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         // Scratch slots where this sample's hits are not kept.
                         let base = if kept { base } else { 0 };
                         self.trace_span(i0, i1, ox, y, base, cull);
-                        if self.shadow_rays {
+                        if self.shadow_rays && OFFS > 0 {
+                            // The points `trace_span` computed with its hits (`cfg(lanes)`).
+                            for slot in base..base + (i1 - i0) as usize {
+                                if let (Some((_, s)), Some(&p)) =
+                                    (cull.hit(slot), cull.hit_p.get(slot))
+                                {
+                                    extend(s as usize, p);
+                                }
+                            }
+                        } else if self.shadow_rays {
                             for slot in base..base + (i1 - i0) as usize {
                                 if let (Some((t, s)), Some(&dir)) =
                                     (cull.hit(slot), cull.hit_d.get(slot))
                                 {
-                                    let o = bound(&Ray::new(self.camera.eye(), dir), t, s as usize);
-                                    if let (true, Some(h)) = (OFFS > 0, cull.hit_o.get_mut(slot)) {
-                                        *h = o;
+                                    let ray = Ray::new(self.camera.eye(), dir);
+                                    if let Some((p, _)) = point(&ray, t, s as usize) {
+                                        extend(s as usize, p);
                                     }
                                 }
                             }
@@ -1041,7 +1141,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         let h = self.primary_among(&ray, i, &cull.span);
                         if let Some((t, s)) = h {
                             if self.shadow_rays {
-                                let _ = bound(&ray, t, s);
+                                if let Some((p, _)) = point(&ray, t, s) {
+                                    extend(s, p);
+                                }
                             }
                             // Only a hit is shaded with its ray.
                             if let Some(d) = cull.hit_d.get_mut(slot) {
@@ -1422,8 +1524,9 @@ struct Cull<const S: usize, const L: usize> {
     hit_t: [f32; SPAN * KEPT],
     hit_s: [u16; SPAN * KEPT],
     hit_d: [Vec3; DIRS],
-    /// Where `culled`, each kept hit's offset from its sphere's centre, which the span's bounds
-    /// computed (see [`OFFS`]).
+    /// Where `culled`, each kept hit's point and offset from its sphere's centre, which the
+    /// span's bounds take and shading reuses (see [`OFFS`]).
+    hit_p: [Vec3; OFFS],
     hit_o: [Vec3; OFFS],
     /// The pixel of every primary ray that hits nothing.
     miss: Rgb888,
@@ -1446,6 +1549,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             hit_t: [0.0; SPAN * KEPT],
             hit_s: [0; SPAN * KEPT],
             hit_d: [Vec3::ZERO; DIRS],
+            hit_p: [Vec3::ZERO; OFFS],
             hit_o: [Vec3::ZERO; OFFS],
             miss: Rgb888::new(0, 0, 0),
         }
