@@ -398,8 +398,14 @@ pub fn spec_pow(x: f32, s: f32) -> f32 {
     if n == 0 {
         return 1.0;
     }
-    // Right-to-left binary powering; the lowest set bit's power starts the product (the same
-    // bits as 1 · x^(2^k)), so whole powers of two cost their squarings only.
+    pow_by_squaring(x, n)
+}
+
+/// `x^n` for `n ≥ 1` by right-to-left binary powering: [`spec_pow`]'s loop, shared with its
+/// vector lanes so that both multiply in the same order. The lowest set bit's power starts the
+/// product (the same bits as 1 · x^(2^k)), so whole powers of two cost their squarings only.
+#[inline(always)]
+fn pow_by_squaring<T: Copy + core::ops::MulAssign>(x: T, n: u32) -> T {
     let (mut base, mut e) = (x, n);
     while e & 1 == 0 {
         base *= base;
@@ -415,4 +421,156 @@ pub fn spec_pow(x: f32, s: f32) -> f32 {
         e >>= 1;
     }
     acc
+}
+
+/// Four `Vec3`s in vector registers, one lane each (`cfg(lanes)`: hosts with f32 vectors), for
+/// shading four pixels at once. Every operation is the lane-wise IEEE operation of its `Vec3`
+/// counterpart in the same order, so each lane computes the scalar bits.
+#[cfg(lanes)]
+pub(crate) mod lanes {
+    use super::Vec3;
+    pub(crate) use wide::f32x4 as F;
+
+    /// `-x` as `Vec3` negates: the sign flipped (wide's `-` is `0 − x`, which differs at zero).
+    #[inline(always)]
+    pub(crate) fn neg(x: F) -> F {
+        x ^ F::splat(-0.0)
+    }
+
+    /// The lanes of a mask (all bits set or clear per lane) as bits `0..4`.
+    #[inline(always)]
+    pub(crate) fn bits(mask: F) -> u32 {
+        mask.move_mask() as u32
+    }
+
+    /// A mask from bits `0..4`.
+    #[inline(always)]
+    pub(crate) fn mask(bits: u32) -> F {
+        let b = |l: u32| {
+            if bits & (1 << l) != 0 {
+                f32::from_bits(!0)
+            } else {
+                0.0
+            }
+        };
+        F::from([b(0), b(1), b(2), b(3)])
+    }
+
+    /// Four vectors, lane by lane.
+    #[derive(Debug, Clone, Copy)]
+    pub(crate) struct V {
+        pub x: F,
+        pub y: F,
+        pub z: F,
+    }
+
+    impl V {
+        #[inline(always)]
+        pub(crate) fn splat(v: Vec3) -> V {
+            V {
+                x: F::splat(v.x),
+                y: F::splat(v.y),
+                z: F::splat(v.z),
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn from_lanes(v: [Vec3; 4]) -> V {
+            V {
+                x: F::from(v.map(|v| v.x)),
+                y: F::from(v.map(|v| v.y)),
+                z: F::from(v.map(|v| v.z)),
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn lane(&self, l: usize) -> Vec3 {
+            let (x, y, z) = (
+                self.x.as_array_ref(),
+                self.y.as_array_ref(),
+                self.z.as_array_ref(),
+            );
+            Vec3::new(x[l & 3], y[l & 3], z[l & 3])
+        }
+        /// `Vec3::dot`'s association: `(x·x' + y·y') + z·z'`.
+        #[inline(always)]
+        pub(crate) fn dot(self, o: V) -> F {
+            self.x * o.x + self.y * o.y + self.z * o.z
+        }
+        #[inline(always)]
+        pub(crate) fn add(self, o: V) -> V {
+            V {
+                x: self.x + o.x,
+                y: self.y + o.y,
+                z: self.z + o.z,
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn sub(self, o: V) -> V {
+            V {
+                x: self.x - o.x,
+                y: self.y - o.y,
+                z: self.z - o.z,
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn neg(self) -> V {
+            V {
+                x: neg(self.x),
+                y: neg(self.y),
+                z: neg(self.z),
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn mul(self, s: F) -> V {
+            V {
+                x: self.x * s,
+                y: self.y * s,
+                z: self.z * s,
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn div(self, s: F) -> V {
+            V {
+                x: self.x / s,
+                y: self.y / s,
+                z: self.z / s,
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn mul_elem(self, o: V) -> V {
+            V {
+                x: self.x * o.x,
+                y: self.y * o.y,
+                z: self.z * o.z,
+            }
+        }
+        /// `Vec3::normalize_fast`: each coordinate divided by the length.
+        #[inline(always)]
+        pub(crate) fn normalize_fast(self) -> V {
+            self.div(self.dot(self).sqrt())
+        }
+        /// `a` in the lanes of `mask`, else `b`.
+        #[inline(always)]
+        pub(crate) fn select(mask: F, a: V, b: V) -> V {
+            V {
+                x: mask.blend(a.x, b.x),
+                y: mask.blend(a.y, b.y),
+                z: mask.blend(a.z, b.z),
+            }
+        }
+    }
+
+    /// [`spec_pow`](super::spec_pow) of each lane of `x` to one exponent `s`: the same
+    /// multiplications in the same order; `None` where `spec_pow` calls `powf` (an `s` that is
+    /// not a whole number up to 2¹⁶).
+    #[inline(always)]
+    pub(crate) fn spec_pow(x: F, s: f32) -> Option<F> {
+        let n = s as u32;
+        if n as f32 != s || n > 1 << 16 {
+            return None;
+        }
+        if n == 0 {
+            return Some(F::ONE);
+        }
+        Some(super::pow_by_squaring(x, n))
+    }
 }

@@ -388,6 +388,106 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         ))
     }
 
+    /// Shades the span's stored primary hits four neighbouring pixels at a time where all four
+    /// hit one sphere that is not a mirror ([`shade_lit4`](crate::shading)), into `cull.px`,
+    /// marking them in `cull.done`: the pixels `next_pixel` would compute one by one, bit for
+    /// bit (the hit records built lane by lane as `make_hit` builds them, the shadow tests the
+    /// scalar ones, asked for the same lanes and lights). Every other pixel is left to the
+    /// scalar path.
+    #[cfg(lanes)]
+    #[inline(never)]
+    fn shade_span4(&self, cull: &mut Cull<S, L>) {
+        use crate::math::lanes::{bits, F, V};
+        use crate::shading::{shade_lit4, Hits4};
+        use wide::{CmpGt, CmpLe, CmpLt};
+        let len = ((cull.span_end - cull.span_start) as usize).min(SPAN);
+        let scene = self.scene;
+        let eye = self.camera.eye();
+        let lists = |s: usize| if cull.culled { cull.lists(s) } else { None };
+        let (mut done, mut px) = (0u32, [cull.miss; SPAN]);
+        let mut m = 0;
+        while m + 4 <= len {
+            let k0 = m;
+            m += 4;
+            let (Some(ss), Some(ts), Some(ds)) = (
+                cull.hit_s.get(k0..k0 + 4),
+                cull.hit_t.get(k0..k0 + 4),
+                cull.hit_d.get(k0..k0 + 4),
+            ) else {
+                break;
+            };
+            let s = ss[0];
+            if s == NONE || ss.iter().any(|&x| x != s) {
+                continue;
+            }
+            let si = s as usize;
+            let (Some(k), Some(sphere)) = (self.eye.get(si), scene.spheres().get(si)) else {
+                continue;
+            };
+            if scene.has_mirror(si) && scene.max_depth() > 0 {
+                continue;
+            }
+            let dir = V::from_lanes([ds[0], ds[1], ds[2], ds[3]]);
+            let t = F::from([ts[0], ts[1], ts[2], ts[3]]);
+            let r = sphere.radius;
+            // `hit_point_within`'s offset: `f + t·d` within near2 radii, else the kept one.
+            let offset = if k.f.dot(k.f) <= scene.near2(si) * (r * r) {
+                V::splat(k.f).add(dir.mul(t))
+            } else {
+                match cull.hit_o.get(k0..k0 + 4) {
+                    Some(o) if cull.culled => V::from_lanes([o[0], o[1], o[2], o[3]]),
+                    _ => continue,
+                }
+            };
+            // `hit_from_offset` for rays from the eye (`path` zero).
+            let outward = offset.div(F::splat(r));
+            let path = V::splat(Vec3::ZERO).add(dir.mul(t));
+            let centre = F::splat(r * r).cmp_le(path.dot(path));
+            let anchor = V::select(centre, V::splat(sphere.center), V::splat(eye));
+            let rel = V::select(centre, offset, path);
+            let facing = dir.dot(outward).cmp_gt(F::ZERO);
+            let normal = V::select(facing, outward.neg(), outward);
+            let h = Hits4 {
+                t,
+                sphere: si,
+                normal,
+                offset,
+                anchor,
+                rel,
+                dir,
+            };
+            let group = lists(si);
+            let inside = bits(normal.dot(offset).cmp_lt(F::ZERO));
+            let colour = shade_lit4(scene, &h, |i, light, ask, to| {
+                if !scene.shadows() {
+                    return 0;
+                }
+                let cands = group.and_then(|l| l.light(i)).unwrap_or(&self.all);
+                // No candidate: only a hit seen from inside needs the test (`blocked`).
+                let ask = if cands.is_empty() { ask & inside } else { ask };
+                let cs = self.light_consts(i, light);
+                let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
+                let mut out = 0;
+                for l in (0..4).filter(|l| ask & (1 << l) != 0) {
+                    let cands = cands.iter().map(|&j| j as usize);
+                    if in_shadow_among(scene, &h.hit(l), light, to.lane(l), consts, cands) {
+                        out |= 1 << l;
+                    }
+                }
+                out
+            });
+            let Some(colour) = colour else { continue };
+            for l in 0..4 {
+                if let Some(p) = px.get_mut(k0 + l) {
+                    *p = self.encode(colour.lane(l));
+                    done |= 1 << (k0 + l);
+                }
+            }
+        }
+        cull.px = px;
+        cull.done = done;
+    }
+
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).
     #[inline]
     fn light_consts(&self, i: usize, light: &Light) -> Option<&[f32]> {
@@ -588,10 +688,24 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             cull.span_start = i;
             cull.span_end = (i + SPAN as u32).min(self.width());
             self.gather(j, cull);
+            #[cfg(lanes)]
+            {
+                cull.done = 0;
+                if cull.stored {
+                    self.shade_span4(cull);
+                }
+            }
         }
         let shadow = if cull.culled { Some(&*cull) } else { None };
         let c = if cull.stored {
             let k = (i - cull.span_start) as usize;
+            // Shaded with the span, four at a time (hosts).
+            #[cfg(lanes)]
+            if cull.done & (1 << (k & 31)) != 0 {
+                if let Some(&p) = cull.px.get(k) {
+                    return p;
+                }
+            }
             // A miss: the pixel `start_row` shaded for all of them (gather built no ray).
             let Some((t, s)) = cull.hit(k) else {
                 return cull.miss;
@@ -1278,6 +1392,8 @@ const SPHERE_MAJOR: bool = DIRS >= SPAN;
 /// spares `make_hit` computing it again: all on hosts with f32 vectors (`cfg(lanes)`), none on
 /// Cortex-M, whose render stack has no room for 12 more bytes a pixel.
 const OFFS: usize = if cfg!(lanes) { SPAN * KEPT } else { 0 };
+// `Cull::done` has a bit per span pixel.
+const _: () = assert!(SPAN <= 32);
 /// A light's pool range when it must test every sphere (empty as `a..b`: `a > b`).
 const ALL: (u16, u16) = (u16::MAX, 0);
 
@@ -1528,6 +1644,12 @@ struct Cull<const S: usize, const L: usize> {
     /// span's bounds take and shading reuses (see [`OFFS`]).
     hit_p: [Vec3; OFFS],
     hit_o: [Vec3; OFFS],
+    /// On hosts with f32 vectors (`cfg(lanes)`), the span's pixels that `Frame::shade_span4`
+    /// shaded four at a time (bit `k` for pixel `k`), and those pixels.
+    #[cfg(lanes)]
+    done: u32,
+    #[cfg(lanes)]
+    px: [Rgb888; SPAN],
     /// The pixel of every primary ray that hits nothing.
     miss: Rgb888,
 }
@@ -1551,6 +1673,10 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             hit_d: [Vec3::ZERO; DIRS],
             hit_p: [Vec3::ZERO; OFFS],
             hit_o: [Vec3::ZERO; OFFS],
+            #[cfg(lanes)]
+            done: 0,
+            #[cfg(lanes)]
+            px: [Rgb888::new(0, 0, 0); SPAN],
             miss: Rgb888::new(0, 0, 0),
         }
     }

@@ -214,6 +214,109 @@ pub(crate) fn shade_lit<const S: usize, const L: usize>(
     colour
 }
 
+/// Four hits on one sphere, in vector lanes (`cfg(lanes)`): [`Hit`]'s fields and the view
+/// direction of each, for [`shade_lit4`].
+#[cfg(lanes)]
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Hits4 {
+    pub t: F,
+    pub sphere: usize,
+    pub normal: V,
+    pub offset: V,
+    pub anchor: V,
+    pub rel: V,
+    pub dir: V,
+}
+
+#[cfg(lanes)]
+use crate::math::lanes::{bits, mask, F, V};
+
+#[cfg(lanes)]
+impl Hits4 {
+    /// Lane `l` as a [`Hit`], for the scalar shadow test.
+    #[inline]
+    pub(crate) fn hit(&self, l: usize) -> Hit {
+        Hit {
+            t: self.t.as_array_ref()[l & 3],
+            sphere: self.sphere,
+            normal: self.normal.lane(l),
+            offset: self.offset.lane(l),
+            anchor: self.anchor.lane(l),
+            rel: self.rel.lane(l),
+        }
+    }
+}
+
+/// [`shade_lit`] of four hits on one sphere (one material) at once, in vector lanes: lane `l`
+/// is `shade_lit(scene, &h.hit(l), h.dir.lane(l), …)`, bit for bit. Each step is the scalar
+/// step lane by lane (the same IEEE operations in the same order), a branch a selection
+/// between both arms. `blocked(i, light, ask, to)` answers for the lanes in `ask` (those with
+/// `n·l > 0`, which the scalar loop would ask) which are in shadow. `None` where a lane leaves
+/// the common case (a light vector whose square leaves the normal range, a specular power
+/// that is not a whole number): the caller shades those four pixels with the scalar code.
+#[cfg(lanes)]
+#[inline]
+pub(crate) fn shade_lit4<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    h: &Hits4,
+    mut blocked: impl FnMut(usize, &Light, u32, &V) -> u32,
+) -> Option<V> {
+    use wide::{CmpGt, CmpLe};
+    let m = scene.materials().get(h.sphere)?;
+    let lights = scene.lights();
+    let n = h.normal;
+    let mut colour = V::splat(m.diffuse.mul_elem(scene.ambient()));
+    let has_specular = scene.has_specular(h.sphere);
+    let v = if has_specular && !lights.is_empty() {
+        h.dir.normalize_fast().neg()
+    } else {
+        V::splat(Vec3::ZERO)
+    };
+    let (kd, ks) = (V::splat(m.diffuse), V::splat(m.specular));
+    for (i, light) in lights.iter().enumerate() {
+        // `to_light` and `unit_towards`.
+        let (to, l) = match *light {
+            Light::Point { position, .. } => {
+                let to = V::splat(position).sub(h.anchor).sub(h.rel);
+                let ll = to.dot(to);
+                let normal = F::splat(f32::MIN_POSITIVE).cmp_le(ll) & ll.cmp_le(F::splat(f32::MAX));
+                if bits(normal) != 0b1111 {
+                    return None;
+                }
+                (to, to.div(ll.sqrt()))
+            }
+            Light::Directional { direction, .. } => {
+                let to = V::splat(-direction);
+                (to, to)
+            }
+        };
+        let nl = n.dot(l);
+        let ask = bits(nl.cmp_gt(F::ZERO));
+        if ask == 0 {
+            continue;
+        }
+        let lit = ask & !blocked(i, light, ask, &to);
+        if lit == 0 {
+            continue;
+        }
+        let mut c = kd.mul(nl);
+        if has_specular {
+            let nh = n.dot(v.add(l).normalize_fast());
+            let shine = nh.cmp_gt(F::ZERO) & mask(lit);
+            if bits(shine) != 0 {
+                let p = crate::math::lanes::spec_pow(nh, m.shininess)?;
+                c = V::select(shine, c.add(ks.mul(p)), c);
+            }
+        }
+        colour = V::select(
+            mask(lit),
+            colour.add(V::splat(light.intensity()).mul_elem(c)),
+            colour,
+        );
+    }
+    Some(colour)
+}
+
 /// The lecture's shading of a hit: the local colour with shadows tested against the scene (when
 /// the scene has them on). Mirrors are followed by [`trace`].
 ///
