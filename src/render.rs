@@ -114,6 +114,21 @@ pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
     (v as i32).clamp(0, 255) as u8
 }
 
+/// [`encode_channel`] with [`Encoding::Linear`] of four channel values in vector lanes: `255c +
+/// 0.5`, then the saturating cast's cases as selections (NaN and below 0 give 0, 256 and above
+/// 255) and a plain truncation of what is left, in `[0, 256)`: the same bytes.
+#[cfg(lanes)]
+#[inline(always)]
+fn linear_bytes(c: crate::math::lanes::F) -> [u8; 4] {
+    use crate::math::lanes::F;
+    use wide::{CmpGe, CmpLt};
+    let v = F::splat(255.0) * c + F::splat(0.5);
+    let (zero, top, end) = (F::ZERO, F::splat(255.0), F::splat(256.0));
+    let outside = v.cmp_ge(end).blend(top, zero);
+    let v = (v.cmp_ge(zero) & v.cmp_lt(end)).blend(v, outside);
+    v.fast_trunc_int().to_array().map(|b| b as u8)
+}
+
 /// The sRGB transfer curve on [0, 1]. Out of line: one copy for the three channels.
 #[inline(never)]
 fn srgb(c: f32) -> f32 {
@@ -477,9 +492,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 out
             });
             let Some(colour) = colour else { continue };
-            for l in 0..4 {
+            for (l, &c) in self.encode4(&colour).iter().enumerate() {
                 if let Some(p) = px.get_mut(k0 + l) {
-                    *p = self.encode(colour.lane(l));
+                    *p = c;
                     done |= 1 << (k0 + l);
                 }
             }
@@ -613,6 +628,20 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             encode_channel(c.y, e),
             encode_channel(c.z, e),
         )
+    }
+
+    /// [`Frame::encode`] of four colours in vector lanes (`cfg(lanes)`): `encode_channel`'s
+    /// `255c + 0.5` and its saturating cast lane by lane (the cast's cases as selections: NaN
+    /// and below 0 to 0, 256 and above to 255), the same bytes. sRGB goes channel by channel
+    /// through the scalar curve.
+    #[cfg(lanes)]
+    #[inline(always)]
+    fn encode4(&self, c: &crate::math::lanes::V) -> [Rgb888; 4] {
+        if self.encoding != Encoding::Linear {
+            return core::array::from_fn(|l| self.encode(c.lane(l)));
+        }
+        let (r, g, b) = (linear_bytes(c.x), linear_bytes(c.y), linear_bytes(c.z));
+        core::array::from_fn(|l| Rgb888::new(r[l], g[l], b[l]))
     }
 
     /// The encoded colour of pixel `(i, j)` (row 0 at the top).
@@ -1759,5 +1788,54 @@ impl<const S: usize, const L: usize> Iterator for Row<'_, '_, S, L> {
     fn size_hint(&self) -> (usize, Option<usize>) {
         let n = (self.end - self.i) as usize;
         (n, Some(n))
+    }
+}
+
+#[cfg(all(test, lanes))]
+mod lane_tests {
+    use super::*;
+
+    /// `linear_bytes` is `encode_channel(_, Linear)` on every kind of value: the byte range and
+    /// its edges, just below and above 0 and 1, values that round to 256, huge, infinite, NaN,
+    /// negative zero and subnormals.
+    #[test]
+    fn lane_bytes_are_encode_channel() {
+        let mut xs = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::NAN,
+            -f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            f32::MIN,
+            1e-45,
+            -1e-45,
+            0.5 / 255.0,
+            255.5 / 255.0,
+            1.0 + f32::EPSILON,
+            1.0 - f32::EPSILON,
+            -0.5 / 255.0,
+            3e9,
+        ]
+        .to_vec();
+        for k in 0..=65_536u32 {
+            let x = k as f32 / 65_536.0 * 1.1 - 0.05;
+            xs.extend([
+                x,
+                f32::from_bits(x.to_bits() + 1),
+                f32::from_bits(x.to_bits() ^ 1),
+            ]);
+        }
+        for c in xs.chunks(4) {
+            let mut a = [0.0f32; 4];
+            a[..c.len()].copy_from_slice(c);
+            let lanes = linear_bytes(crate::math::lanes::F::from(a));
+            for (l, &x) in a.iter().enumerate() {
+                assert_eq!(lanes[l], encode_channel(x, Encoding::Linear), "{x:e}");
+            }
+        }
     }
 }

@@ -291,25 +291,31 @@ pub(crate) fn shade_lit4<const S: usize, const L: usize>(
             }
         };
         let nl = n.dot(l);
-        let ask = bits(nl.cmp_gt(F::ZERO));
+        let facing = nl.cmp_gt(F::ZERO);
+        let ask = bits(facing);
         if ask == 0 {
             continue;
         }
-        let lit = ask & !blocked(i, light, ask, &to);
-        if lit == 0 {
+        let shadowed = blocked(i, light, ask, &to);
+        if ask & !shadowed == 0 {
             continue;
         }
+        let lit = if shadowed == 0 {
+            facing
+        } else {
+            facing & !mask(shadowed)
+        };
         let mut c = kd.mul(nl);
         if has_specular {
             let nh = n.dot(v.add(l).normalize_fast());
-            let shine = nh.cmp_gt(F::ZERO) & mask(lit);
+            let shine = nh.cmp_gt(F::ZERO) & lit;
             if bits(shine) != 0 {
                 let p = crate::math::lanes::spec_pow(nh, m.shininess)?;
                 c = V::select(shine, c.add(ks.mul(p)), c);
             }
         }
         colour = V::select(
-            mask(lit),
+            lit,
             colour.add(V::splat(light.intensity()).mul_elem(c)),
             colour,
         );
