@@ -479,11 +479,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
                 let cands = group.and_then(|l| l.light(i)).unwrap_or(&self.all);
                 // No candidate: only a hit seen from inside needs the test (`blocked`).
-                let ask = if cands.is_empty() { ask & inside } else { ask };
+                let mut ask = if cands.is_empty() { ask & inside } else { ask };
+                if ask == 0 {
+                    return 0;
+                }
                 let cs = self.light_consts(i, light);
                 let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
                 let mut out = 0;
-                for l in (0..4).filter(|l| ask & (1 << l) != 0) {
+                while ask != 0 {
+                    let l = ask.trailing_zeros() as usize;
+                    ask &= ask - 1;
                     let cands = cands.iter().map(|&j| j as usize);
                     if in_shadow_among(scene, &h.hit(l), light, to.lane(l), consts, cands) {
                         out |= 1 << l;
