@@ -1347,6 +1347,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let start = cull.pool.len() as u16;
                 let spheres = self.scene.spheres();
                 let mut full = false;
+                // Hosts collect the candidates first and weigh them four at a time.
+                #[cfg(lanes)]
+                let mut found: List<S> = heapless::Vec::new();
                 let mut consider = |s: u16| {
                     // Not a group's own sphere: the shadow test skips the hit's sphere among
                     // its candidates (it finds the ray's exit from it analytically), so listing
@@ -1354,6 +1357,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     if s == group.sphere {
                         return;
                     }
+                    #[cfg(lanes)]
+                    if found.push(s).is_err() {
+                        full = true;
+                    }
+                    #[cfg(not(lanes))]
                     if let Some(sphere) = spheres.get(s as usize) {
                         if may_block(light, sphere.center, sphere.radius, q, rho)
                             && cull.pool.push(s).is_err()
@@ -1386,6 +1394,19 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     None => {
                         for s in 0..spheres.len() {
                             consider(s as u16);
+                        }
+                    }
+                }
+                #[cfg(lanes)]
+                for c in found.chunks(4) {
+                    let ids: [u16; 4] = core::array::from_fn(|l| c.get(l).copied().unwrap_or(NONE));
+                    let sph = ids.map(|i| spheres.get(i as usize).copied());
+                    let m = sph.map(|s| s.map_or(Vec3::ZERO, |s| s.center));
+                    let r = sph.map(|s| s.map_or(0.0, |s| s.radius));
+                    let pass = may_block4(light, m, r, q, rho);
+                    for (l, &i) in ids.iter().enumerate() {
+                        if pass & (1 << l) != 0 && sph[l].is_some() && cull.pool.push(i).is_err() {
+                            full = true;
                         }
                     }
                 }
@@ -1599,9 +1620,64 @@ impl<const S: usize> Sweep<S> {
     }
 }
 
+/// [`may_block`] of four spheres (centres `m`, radii `r`) at once in vector lanes (`cfg(lanes)`):
+/// the same operations lane by lane, so the same answers, as bits `0..4`.
+#[cfg(lanes)]
+#[inline(always)]
+fn may_block4(light: &Light, m: [Vec3; 4], r: [f32; 4], q: Vec3, rho: f32) -> u32 {
+    use wide::{f32x4 as F, CmpGt, CmpLt};
+    let v = F::splat;
+    let (mx, my, mz) = (
+        F::from(m.map(|c| c.x)),
+        F::from(m.map(|c| c.y)),
+        F::from(m.map(|c| c.z)),
+    );
+    let r = F::from(r);
+    let (rho_v, eta2) = (v(rho), v(2.0 * ETA));
+    let not_above = |g: F, tol: F| !(g.cmp_gt(tol)).move_mask() as u32 & 0b1111;
+    match *light {
+        Light::Point { position, .. } => {
+            let (wx, wy, wz) = (mx - v(position.x), my - v(position.y), mz - v(position.z));
+            let qv = q - position;
+            let big = r * v(1.0 + 2e-4) + eta2 * (wx.abs() + wy.abs() + wz.abs() + r);
+            let (ww, vv) = (wx * wx + wy * wy + wz * wz, v(qv.dot(qv)));
+            let wv = wx * v(qv.x) + wy * v(qv.y) + wz * v(qv.z);
+            let a = vv - v(rho * rho);
+            let b = wv + big * rho_v;
+            let g0 = ww - big * big;
+            let g1 = a - v(2.0) * b + g0;
+            let gmin = g0.cmp_lt(g1).blend(g0, g1);
+            let inner = a.cmp_gt(F::ZERO) & b.cmp_gt(F::ZERO) & b.cmp_lt(a);
+            let gv = g0 - b * (b / a);
+            let gmin = (inner & gv.cmp_lt(gmin)).blend(gv, gmin);
+            let tol = v(1e-5) * (ww + vv + big * big + v(rho * rho));
+            not_above(gmin, tol)
+        }
+        Light::Directional { direction, .. } => {
+            let l = -direction;
+            let (wx, wy, wz) = (mx - v(q.x), my - v(q.y), mz - v(q.z));
+            let s = wx * v(l.x) + wy * v(l.y) + wz * v(l.z);
+            let ahead = s.cmp_gt(F::ZERO);
+            let (ex, ey, ez) = (
+                ahead.blend(wx - v(l.x) * s, wx),
+                ahead.blend(wy - v(l.y) * s, wy),
+                ahead.blend(wz - v(l.z) * s, wz),
+            );
+            let big =
+                r * v(1.0 + 2e-4) + eta2 * (wx.abs() + wy.abs() + wz.abs() + rho_v + r) + rho_v;
+            let d2 = ex * ex + ey * ey + ez * ez;
+            let tol = v(1e-5) * (wx * wx + wy * wy + wz * wz + big * big);
+            not_above(d2 - big * big, tol)
+        }
+    }
+}
+
 /// Whether a sphere (centre `m`, radius `r`) can block a shadow ray towards `light` from some
 /// point of the ball `(q, rho)`: a conservative test, padded well beyond the rounding of the
 /// shadow test itself and of this one.
+/// Hosts weigh candidates four at a time with [`may_block4`]; this stays the Arm path and the
+/// reference the lanes are tested against.
+#[cfg_attr(lanes, allow(dead_code))]
 #[inline]
 fn may_block(light: &Light, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
     match *light {
@@ -1799,6 +1875,75 @@ impl<const S: usize, const L: usize> Iterator for Row<'_, '_, S, L> {
 #[cfg(all(test, lanes))]
 mod lane_tests {
     use super::*;
+
+    /// `may_block4` answers as `may_block` does, lane by lane, for both kinds of light, on
+    /// spheres and balls of every size and distance, near the edge of the test especially.
+    #[test]
+    fn lane_blockers_are_may_block() {
+        struct G(u64);
+        impl G {
+            fn unit(&mut self) -> f32 {
+                self.0 ^= self.0 << 13;
+                self.0 ^= self.0 >> 7;
+                self.0 ^= self.0 << 17;
+                (self.0 >> 40) as f32 / (1u64 << 24) as f32
+            }
+            fn vec(&mut self, s: f32) -> Vec3 {
+                Vec3::new(self.unit() - 0.5, self.unit() - 0.5, self.unit() - 0.5) * (8.0 * s)
+            }
+        }
+        let mut g = G(0x9e37_79b9_7f4a_7c15);
+        let (mut yes, mut no) = (0, 0);
+        for case in 0..50_000 {
+            let scale = [1e-3f32, 1.0, 1e3][case % 3];
+            let (q, rho) = (g.vec(scale), g.unit() * scale);
+            let light = if case % 2 == 0 {
+                Light::Point {
+                    position: g.vec(scale),
+                    intensity: Color::ONE,
+                }
+            } else {
+                let d = g.vec(1.0).normalized().unwrap_or(Vec3::new(0.0, -1.0, 0.0));
+                Light::Directional {
+                    direction: d,
+                    intensity: Color::ONE,
+                }
+            };
+            let r: [f32; 4] = core::array::from_fn(|_| g.unit() * scale);
+            // Half the spheres anywhere, half about as far from the shadow rays' axis as the
+            // test's edge, where it decides by a hair.
+            let far_end = match light {
+                Light::Point { position, .. } => position,
+                Light::Directional { direction, .. } => q - direction * (8.0 * scale),
+            };
+            let m: [Vec3; 4] = core::array::from_fn(|l| {
+                if l % 2 == 0 {
+                    return g.vec(scale);
+                }
+                let u = g.unit();
+                let axis = q + (far_end - q) * u;
+                let side = g.vec(1.0).normalized().unwrap_or(Vec3::new(1.0, 0.0, 0.0));
+                axis + side * ((r[l] + rho * u) * (0.9 + 0.2 * g.unit()))
+            });
+            let lanes = may_block4(&light, m, r, q, rho);
+            for l in 0..4 {
+                let scalar = may_block(&light, m[l], r[l], q, rho);
+                assert_eq!(
+                    lanes & (1 << l) != 0,
+                    scalar,
+                    "{light:?} {:?} {} {q:?} {rho}",
+                    m[l],
+                    r[l]
+                );
+                if scalar {
+                    yes += 1
+                } else {
+                    no += 1
+                }
+            }
+        }
+        assert!(yes > 10_000 && no > 10_000, "{yes} {no}");
+    }
 
     /// `linear_bytes` is `encode_channel(_, Linear)` on every kind of value: the byte range and
     /// its edges, just below and above 0 and 1, values that round to 256, huge, infinite, NaN,
