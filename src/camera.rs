@@ -233,23 +233,19 @@ mod tests {
     /// orientation, field of view and image size, at pixel centres and supersample offsets.
     #[test]
     fn lane_directions_are_the_scalar_ones() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut g = crate::math::TestRng(0x2545_f491_4f6c_dd1d);
         let mut checked = 0;
         for _ in 0..2000 {
-            let mut v = || Vec3::new(unit() - 0.5, unit() - 0.5, unit() - 0.5) * 20.0;
-            let (eye, at, up) = (v(), v(), v());
-            let (w, h) = (1 + (unit() * 2000.0) as u32, 1 + (unit() * 2000.0) as u32);
-            let Ok(cam) = Camera::new(eye, at, up, 1.0 + unit() * 170.0, w, h) else {
+            let (eye, at, up) = (g.vec(20.0), g.vec(20.0), g.vec(20.0));
+            let (w, h) = (
+                1 + (g.unit() * 2000.0) as u32,
+                1 + (g.unit() * 2000.0) as u32,
+            );
+            let Ok(cam) = Camera::new(eye, at, up, 1.0 + g.unit() * 170.0, w, h) else {
                 continue;
             };
-            let y = (unit() * h as f32).floor() + unit();
-            let x0 = (unit() * w as f32).floor() + 0.5;
+            let y = (g.unit() * h as f32).floor() + g.unit();
+            let x0 = (g.unit() * w as f32).floor() + 0.5;
             let x = [x0, x0 + 1.0, x0 + 2.25, x0 + 3.0];
             let lanes = cam.directions4(x, y);
             for (l, &x) in x.iter().enumerate() {

@@ -934,19 +934,15 @@ pub fn exit_root(f: Vec3, d: Vec3) -> Option<f32> {
 mod lane_tests {
     use super::*;
 
-    /// xorshift64*, as tests/common/rng.rs (which unit tests cannot reach).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-        }
-        fn unit(&mut self) -> f32 {
-            (self.next() >> 40) as f32 / (1u64 << 24) as f32
-        }
+    use crate::math::TestRng;
+
+    /// Magnitudes over many decades, for the test's spheres and rays.
+    trait Decades {
         /// ±(1 … 10) · 10^e for e in lo..hi.
+        fn mag(&mut self, lo: i32, hi: i32) -> f32;
+        fn decades(&mut self, lo: i32, hi: i32) -> Vec3;
+    }
+    impl Decades for TestRng {
         fn mag(&mut self, lo: i32, hi: i32) -> f32 {
             let e = lo + (self.next() % (hi - lo) as u64) as i32;
             let v = (1.0 + 9.0 * self.unit()) * libm::powf(10.0, e as f32);
@@ -956,7 +952,7 @@ mod lane_tests {
                 -v
             }
         }
-        fn vec(&mut self, lo: i32, hi: i32) -> Vec3 {
+        fn decades(&mut self, lo: i32, hi: i32) -> Vec3 {
             Vec3::new(self.mag(lo, hi), self.mag(lo, hi), self.mag(lo, hi))
         }
     }
@@ -967,19 +963,19 @@ mod lane_tests {
     /// `tmax` at the root itself.
     #[test]
     fn lanes_are_the_scalar_hit() {
-        let mut g = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut g = TestRng(0x9e37_79b9_7f4a_7c15);
         let (mut hits, mut redos, mut near, mut lanes) = (0, 0, 0, 0);
         let mut ordinary_redos = 0;
         for case in 0..200_000u32 {
             let r = g.mag(-4, 5).abs();
-            let m = g.vec(-4, 5);
+            let m = g.decades(-4, 5);
             let origin = match case % 4 {
                 // on or just off the surface, where `|c| ≤ r²`
                 0 => m + Vec3::new(r, 0.0, 0.0) * (1.0 + 0.01 * (g.unit() - 0.5)),
-                1 => m + g.vec(-5, 2),
+                1 => m + g.decades(-5, 2),
                 // centres near 10¹⁹ (squares overflow) now and then
                 2 if case % 64 == 2 => Vec3::new(3e19, -2e19, 1e19),
-                _ => g.vec(-4, 6),
+                _ => g.decades(-4, 6),
             };
             let k = Prepared::exact(origin, &Sphere::new(m, r));
             // (An origin that rounded onto the centre has no direction to aim along.)
@@ -1001,8 +997,8 @@ mod lane_tests {
                     let off = 1.0 + libm::powf(10.0, -4.0 - 3.0 * g.unit()) * (g.unit() - 0.5);
                     aim * side + u.normalized().unwrap_or(Vec3::ZERO) * (r * off)
                 }
-                3 => g.vec(15, 20),
-                _ => aim + g.vec(-6, 1) * aim.length(),
+                3 => g.decades(15, 20),
+                _ => aim + g.decades(-6, 1) * aim.length(),
             });
             // (`hit_lanes` takes any tmin; the renderer's is `f32::MIN_POSITIVE`.)
             let tmin = [0.0, f32::MIN_POSITIVE, -1e3][case as usize % 3];

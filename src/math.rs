@@ -574,3 +574,29 @@ pub(crate) mod lanes {
         Some(super::pow_by_squaring(x, n))
     }
 }
+
+/// The unit tests' random numbers: xorshift64*, as tests/common/rng.rs (which unit tests cannot
+/// reach), so every random unit test is reproducible by its seed.
+#[cfg(test)]
+pub(crate) struct TestRng(pub u64);
+
+#[cfg(test)]
+impl TestRng {
+    /// The next 64 random bits.
+    pub(crate) fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+
+    /// Uniform in [0, 1), from 24 bits.
+    pub(crate) fn unit(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// Each coordinate uniform in [−s/2, s/2).
+    pub(crate) fn vec(&mut self, s: f32) -> Vec3 {
+        Vec3::new(self.unit() - 0.5, self.unit() - 0.5, self.unit() - 0.5) * s
+    }
+}

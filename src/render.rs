@@ -1880,26 +1880,14 @@ mod lane_tests {
     /// spheres and balls of every size and distance, near the edge of the test especially.
     #[test]
     fn lane_blockers_are_may_block() {
-        struct G(u64);
-        impl G {
-            fn unit(&mut self) -> f32 {
-                self.0 ^= self.0 << 13;
-                self.0 ^= self.0 >> 7;
-                self.0 ^= self.0 << 17;
-                (self.0 >> 40) as f32 / (1u64 << 24) as f32
-            }
-            fn vec(&mut self, s: f32) -> Vec3 {
-                Vec3::new(self.unit() - 0.5, self.unit() - 0.5, self.unit() - 0.5) * (8.0 * s)
-            }
-        }
-        let mut g = G(0x9e37_79b9_7f4a_7c15);
+        let mut g = crate::math::TestRng(0x9e37_79b9_7f4a_7c15);
         let (mut yes, mut no) = (0, 0);
         for case in 0..50_000 {
             let scale = [1e-3f32, 1.0, 1e3][case % 3];
-            let (q, rho) = (g.vec(scale), g.unit() * scale);
+            let (q, rho) = (g.vec(8.0 * scale), g.unit() * scale);
             let light = if case % 2 == 0 {
                 Light::Point {
-                    position: g.vec(scale),
+                    position: g.vec(8.0 * scale),
                     intensity: Color::ONE,
                 }
             } else {
@@ -1918,12 +1906,24 @@ mod lane_tests {
             };
             let m: [Vec3; 4] = core::array::from_fn(|l| {
                 if l % 2 == 0 {
-                    return g.vec(scale);
+                    return g.vec(8.0 * scale);
                 }
                 let u = g.unit();
                 let axis = q + (far_end - q) * u;
                 let side = g.vec(1.0).normalized().unwrap_or(Vec3::new(1.0, 0.0, 0.0));
-                axis + side * ((r[l] + rho * u) * (0.9 + 0.2 * g.unit()))
+                if l == 1 {
+                    return axis + side * ((r[l] + rho * u) * (0.9 + 0.2 * g.unit()));
+                }
+                // Within half the test's pad either side of its edge: the cone's radius there
+                // (ρ at the ball, 0 at a point light; ρ all along a directional light's sweep)
+                // plus r and the pad's estimate, 2·10⁻⁴ r + 2 ETA |w|₁.
+                let (w, reach) = match light {
+                    Light::Point { position, .. } => (axis - position, rho * (1.0 - u)),
+                    Light::Directional { .. } => (axis - q, rho),
+                };
+                let l1 = w.x.abs() + w.y.abs() + w.z.abs();
+                let pad = 2e-4 * r[l] + 2.0 * ETA * (l1 + r[l] + reach);
+                axis + side * (r[l] + reach + pad * (0.5 + g.unit()))
             });
             let lanes = may_block4(&light, m, r, q, rho);
             for l in 0..4 {
