@@ -476,15 +476,7 @@ impl Prepared {
     pub fn hit4(&self, d: &[Vec3; 4], tmin: f32, tmax: [f32; 4]) -> [Option<f32>; 4] {
         #[cfg(lanes)]
         if finite(self.c) {
-            let hb = libm::fabsf(self.c) > self.r * self.r;
-            let h = self.hit_lanes(
-                hb,
-                d.map(|v| v.x),
-                d.map(|v| v.y),
-                d.map(|v| v.z),
-                tmin,
-                tmax,
-            );
+            let h = self.hit_lanes_of(d, tmin, tmax);
             return core::array::from_fn(|l| {
                 if h.redo & (1 << l) != 0 {
                     self.hit(d[l], tmin, tmax[l])
@@ -494,6 +486,17 @@ impl Prepared {
             });
         }
         core::array::from_fn(|l| self.hit(d[l], tmin, tmax[l]))
+    }
+
+    /// [`Prepared::hit_lanes`] of four directions given as vectors, its discriminant choice
+    /// made here: for `hit4` and the lanes' test (the renderer's loop makes the choice once per
+    /// sphere and keeps its directions by coordinate).
+    #[cfg(lanes)]
+    #[inline(always)]
+    fn hit_lanes_of(&self, d: &[Vec3; 4], tmin: f32, tmax: [f32; 4]) -> LaneHits {
+        let hb = libm::fabsf(self.c) > self.r * self.r;
+        let [x, y, z] = [d.map(|v| v.x), d.map(|v| v.y), d.map(|v| v.z)];
+        self.hit_lanes(hb, x, y, z, tmin, tmax)
     }
 
     /// [`Prepared::hit`] with `a = d·d` and `b = f·d` already computed.
@@ -604,9 +607,9 @@ impl Prepared {
         tmin: f32,
         tmax: [f32; LANES],
     ) -> LaneHits {
-        use wide::{f32x4, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
+        use crate::math::lanes::{neg, F as f32x4};
+        use wide::{CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
         let v = f32x4::splat;
-        let neg = |x: f32x4| x ^ v(-0.0);
         let (fx, fy, fz) = (v(self.f.x), v(self.f.y), v(self.f.z));
         let (c, r) = (self.c, self.r);
         let (cv, cabs, rr) = (v(c), v(libm::fabsf(c)), v(r * r));
@@ -1009,14 +1012,7 @@ mod lane_tests {
                 2 => g.mag(-3, 4).abs(),
                 _ => f32::NAN,
             });
-            let h = k.hit_lanes(
-                hb,
-                d.map(|v| v.x),
-                d.map(|v| v.y),
-                d.map(|v| v.z),
-                tmin,
-                tmax,
-            );
+            let h = k.hit_lanes_of(&d, tmin, tmax);
             for l in 0..LANES {
                 lanes += 1;
                 if h.redo & (1 << l) != 0 {
