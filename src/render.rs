@@ -446,7 +446,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let t = F::from([ts[0], ts[1], ts[2], ts[3]]);
             let r = sphere.radius;
             // `hit_point_within`'s offset: `f + t·d` within near2 radii, else the kept one.
-            let offset = if k.f.dot(k.f) <= scene.near2(si) * (r * r) {
+            let offset = if self.offset_near(si) {
                 V::splat(k.f).add(dir.mul(t))
             } else {
                 match cull.hit_o.get(k0..k0 + 4) {
@@ -510,6 +510,21 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         cull.px = px;
         cull.done = done;
+    }
+
+    /// Whether `hit_point_within` takes `f + t·d` for primary hits on sphere `s` (its eye
+    /// constants within near2 radii): the same choice for every pixel, which the lane paths
+    /// make once per group of four.
+    #[cfg(lanes)]
+    #[inline(always)]
+    fn offset_near(&self, s: usize) -> bool {
+        match (self.eye.get(s), self.scene.spheres().get(s)) {
+            (Some(k), Some(sphere)) => {
+                let r = sphere.radius;
+                k.f.dot(k.f) <= self.scene.near2(s) * (r * r)
+            }
+            _ => false,
+        }
     }
 
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).
@@ -1144,15 +1159,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         while m < len {
             let s = sp[m];
             let whole = m + LANES <= len && sp[m..m + LANES].iter().all(|&x| x == s);
-            let near = whole
-                && match (self.eye.get(s as usize), spheres.get(s as usize)) {
-                    // `hit_point_within`'s choice for this sphere: `f + t·d` within near2 radii.
-                    (Some(k), Some(sphere)) => {
-                        let r = sphere.radius;
-                        k.f.dot(k.f) <= self.scene.near2(s as usize) * (r * r)
-                    }
-                    _ => false,
-                };
+            let near = whole && self.offset_near(s as usize);
             if !near {
                 let end = if whole { m + LANES } else { m + 1 };
                 for (q, &sq) in sp.iter().enumerate().take(end.min(len)).skip(m) {
