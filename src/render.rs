@@ -771,23 +771,46 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             cull.span_end = (i + SPAN as u32).min(self.width());
             self.gather(j, cull);
             #[cfg(lanes)]
-            {
-                cull.done = 0;
-                if cull.stored {
-                    self.shade_span4(cull);
-                }
+            self.fill_span(j, cull);
+        }
+        #[cfg(lanes)]
+        {
+            // Hosts shade the whole span at its start (`fill_span`).
+            let k = (i - cull.span_start) as usize;
+            cull.px.get(k).copied().unwrap_or(cull.miss)
+        }
+        #[cfg(not(lanes))]
+        self.span_pixel(j, i, cull)
+    }
+
+    /// Every pixel of the span just gathered into `cull.px`: groups of four in lanes
+    /// (`shade_span4`), the others one by one, so that the pixel loop only reads them.
+    #[cfg(lanes)]
+    #[inline(never)]
+    fn fill_span(&self, j: u32, cull: &mut Cull<S, L>) {
+        cull.done = 0;
+        if cull.stored {
+            self.shade_span4(cull);
+        }
+        let len = ((cull.span_end - cull.span_start) as usize).min(SPAN);
+        let span = if len >= 32 { u32::MAX } else { (1 << len) - 1 };
+        let mut rest = !cull.done & span;
+        while rest != 0 {
+            let k = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            let c = self.span_pixel(j, cull.span_start + k as u32, cull);
+            if let Some(p) = cull.px.get_mut(k) {
+                *p = c;
             }
         }
-        let shadow = if cull.culled { Some(&*cull) } else { None };
+    }
+
+    /// Pixel `(i, j)` of the span gathered in `cull`, shaded on its own.
+    #[inline(always)]
+    fn span_pixel(&self, j: u32, i: u32, cull: &Cull<S, L>) -> Rgb888 {
+        let shadow = if cull.culled { Some(cull) } else { None };
         let c = if cull.stored {
             let k = (i - cull.span_start) as usize;
-            // Shaded with the span, four at a time (hosts).
-            #[cfg(lanes)]
-            if cull.done & (1 << (k & 31)) != 0 {
-                if let Some(&p) = cull.px.get(k) {
-                    return p;
-                }
-            }
             // A miss: the pixel `start_row` shaded for all of them (gather built no ray).
             let Some((t, s)) = cull.hit(k) else {
                 return cull.miss;
@@ -884,6 +907,21 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let mut cull = Cull::new();
         for (r, row) in buf.chunks_exact_mut(w).enumerate() {
             let j = first_row + r as u32;
+            // Hosts: span by span, each span shaded whole by `fill_span`.
+            #[cfg(lanes)]
+            for (m, out) in row.chunks_mut(SPAN).enumerate() {
+                if m == 0 {
+                    self.start_row(j, &mut cull);
+                }
+                cull.span_start = (m * SPAN) as u32;
+                cull.span_end = cull.span_start + out.len() as u32;
+                self.gather(j, &mut cull);
+                self.fill_span(j, &mut cull);
+                for (o, &p) in out.iter_mut().zip(&cull.px) {
+                    *o = p.into();
+                }
+            }
+            #[cfg(not(lanes))]
             for (i, px) in row.iter_mut().enumerate() {
                 *px = self.next_pixel(j, i as u32, &mut cull).into();
             }
@@ -1795,7 +1833,8 @@ struct Cull<const S: usize, const L: usize> {
     hit_p: [Vec3; OFFS],
     hit_o: [Vec3; OFFS],
     /// On hosts with f32 vectors (`cfg(lanes)`), the span's pixels that `Frame::shade_span4`
-    /// shaded four at a time (bit `k` for pixel `k`), and those pixels.
+    /// shaded four at a time (bit `k` for pixel `k`), and all the span's pixels once
+    /// `Frame::fill_span` has shaded the rest.
     #[cfg(lanes)]
     done: u32,
     #[cfg(lanes)]
