@@ -413,7 +413,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     #[inline(never)]
     fn shade_span4(&self, cull: &mut Cull<S, L>) {
         use crate::math::lanes::{bits, F, V};
-        use crate::shading::{shade_lit4, Hits4};
+        use crate::shading::{in_shadow4, shade_lit4, Hits4};
         use wide::{CmpGt, CmpLe, CmpLt};
         let len = ((cull.span_end - cull.span_start) as usize).min(SPAN);
         let scene = self.scene;
@@ -480,25 +480,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 // No candidate: only lanes that see the sphere from inside need the test
                 // (`Frame::blocked`'s shortcut, four lanes at a time).
                 let cands = self.candidates(group, i);
-                let mut ask = if cands.is_empty() { ask & inside } else { ask };
+                let ask = if cands.is_empty() { ask & inside } else { ask };
                 if ask == 0 {
                     return 0;
                 }
-                // `Frame::shadow_test`'s call, here with a closure of its own: sharing one
-                // instance of `in_shadow_among` with the scalar path left it out of line
-                // (x86 instructions a pixel 459 → 475, 256 small spheres 970 → 1 050).
                 let cs = self.light_consts(i, light);
                 let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
-                let mut out = 0;
-                while ask != 0 {
-                    let l = ask.trailing_zeros() as usize;
-                    ask &= ask - 1;
-                    let cands = cands.iter().map(|&j| j as usize);
-                    if in_shadow_among(scene, &h.hit(l), light, to.lane(l), consts, cands) {
-                        out |= 1 << l;
-                    }
-                }
-                out
+                in_shadow4(scene, &h, light, to, ask, consts, cands)
             });
             let Some(colour) = colour else { continue };
             for (l, &c) in self.encode4(&colour).iter().enumerate() {

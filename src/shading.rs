@@ -323,6 +323,103 @@ pub(crate) fn shade_lit4<const S: usize, const L: usize>(
     Some(colour)
 }
 
+/// [`in_shadow_among`] for the lanes `ask` of four hits on one sphere (`to` their
+/// [`to_light`] vectors): the bits of those in shadow. Each candidate is weighed for the four
+/// lanes at once where the scalar test's first steps allow (a clear miss or a sphere behind,
+/// decided by the same operations lane by lane, and the point light's constants through
+/// [`Prepared::hit_lanes`]); the lanes that remain get the scalar test of that sphere, so every
+/// answer is the scalar one. Lanes that see their sphere from inside take the whole scalar test.
+#[cfg(lanes)]
+#[inline(always)]
+pub(crate) fn in_shadow4<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    h: &Hits4,
+    light: &Light,
+    to: &V,
+    ask: u32,
+    light_c: impl Fn(usize) -> Option<f32>,
+    candidates: &[u16],
+) -> u32 {
+    use crate::geometry::leaving_misses4;
+    use crate::math::finite;
+    use wide::CmpLt;
+    let spheres = scene.spheres();
+    let inside = bits(h.normal.dot(h.offset).cmp_lt(F::ZERO));
+    let mut out = 0;
+    let mut rest = ask & inside;
+    while rest != 0 {
+        let l = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        let cands = candidates.iter().map(|&j| j as usize);
+        if in_shadow_among(scene, &h.hit(l), light, to.lane(l), &light_c, cands) {
+            out |= 1 << l;
+        }
+    }
+    let mut open = ask & !inside;
+    // `leaving_blocks` of the lanes in `open` that its first steps leave undecided.
+    let leaving = |s: &Sphere, d: &V, tmax: f32, open: u32| {
+        let mut maybe = open & !leaving_misses4(h.anchor, h.rel, s, *d);
+        let mut hit = 0;
+        while maybe != 0 {
+            let l = maybe.trailing_zeros() as usize;
+            maybe &= maybe - 1;
+            let (anchor, rel) = (h.anchor.lane(l), h.rel.lane(l));
+            if Prepared::leaving_blocks(anchor, rel, s, d.lane(l), tmax) {
+                hit |= 1 << l;
+            }
+        }
+        hit
+    };
+    let d = match *light {
+        Light::Point { .. } => to.neg(),
+        Light::Directional { .. } => *to,
+    };
+    for &j in candidates {
+        if open == 0 {
+            break;
+        }
+        let j = j as usize;
+        let Some(s) = spheres.get(j) else { continue };
+        if j == h.sphere {
+            continue;
+        }
+        let hit = match *light {
+            Light::Point { position, .. } => match light_c(j) {
+                Some(c) if c <= NEAR_LIGHT * (s.radius * s.radius) => {
+                    let k = Prepared {
+                        f: position - s.center,
+                        c,
+                        r: s.radius,
+                    };
+                    let one = |l: usize| k.hit(d.lane(l), T_EPS, T_BELOW_ONE).is_some() as u32;
+                    if finite(c) {
+                        let hb = libm::fabsf(c) > k.r * k.r;
+                        let (x, y, z) = (d.x.to_array(), d.y.to_array(), d.z.to_array());
+                        let found = k.hit_lanes(hb, x, y, z, T_EPS, [T_BELOW_ONE; 4]);
+                        let mut hit = found.hit & !found.redo & open;
+                        let mut redo = found.redo & open;
+                        while redo != 0 {
+                            let l = redo.trailing_zeros() as usize;
+                            redo &= redo - 1;
+                            hit |= one(l) << l;
+                        }
+                        hit
+                    } else {
+                        (0..4)
+                            .filter(|&l| open & (1 << l) != 0)
+                            .fold(0, |m, l| m | one(l) << l)
+                    }
+                }
+                _ => leaving(s, to, T_BELOW_ONE, open),
+            },
+            Light::Directional { .. } => leaving(s, &d, f32::INFINITY, open),
+        };
+        out |= hit;
+        open &= !hit;
+    }
+    out
+}
+
 /// The lecture's shading of a hit: the local colour with shadows tested against the scene (when
 /// the scene has them on). Mirrors are followed by [`trace`].
 ///
