@@ -677,18 +677,38 @@ impl Prepared {
         let q = b.cmp_gt(zero).blend(neg(b + s), s - b);
         // `near_root`
         let far_ahead = cpos & b.cmp_lt(zero) & s.cmp_lt(v(-0.5) * b);
-        let t0 = far_ahead.blend((neg(b) - s) / a, cv / q);
+        let q_zero = q.cmp_eq(zero);
+        let redo = open & ((!(in_range | negative)) | (in_range & q_zero));
+        // The lanes whose answer this test gives: their other lanes' `t` is never read.
+        let live = open & in_range & !q_zero;
+        let lives = live.move_mask();
+        // Neighbouring rays mostly take the same arm of `near_root` (small spheres the first,
+        // a ground below the eye the second) and have their near root in range: then one
+        // divide, not three.
+        let ahead = far_ahead.move_mask() & lives;
+        let t0 = if ahead == 0 {
+            cv / q
+        } else if ahead == lives {
+            (neg(b) - s) / a
+        } else {
+            far_ahead.blend((neg(b) - s) / a, cv / q)
+        };
         let ok = |t: f32x4| t.cmp_ge(tmin) & t.cmp_le(tmax) & t.cmp_lt(v(f32::INFINITY));
         let early = q.cmp_gt(zero) & cpos & ok(t0);
+        if early.move_mask() & lives == lives {
+            return LaneHits {
+                hit: lives as u32,
+                redo: redo.move_mask() as u32,
+                t: t0.to_array(),
+            };
+        }
         let t1 = q / a;
         let ordered = t0.cmp_le(t1);
         let (near, far) = (ordered.blend(t0, t1), ordered.blend(t1, t0));
         let take_near = early | ok(near);
         let t = early.blend(t0, take_near.blend(near, far));
         let found = take_near | ok(far);
-        let q_zero = q.cmp_eq(zero);
-        let redo = open & ((!(in_range | negative)) | (in_range & q_zero));
-        let hit = open & in_range & !q_zero & found;
+        let hit = live & found;
         LaneHits {
             hit: hit.move_mask() as u32,
             redo: redo.move_mask() as u32,
