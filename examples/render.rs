@@ -81,10 +81,11 @@ fn run(args: Args) -> Result<(), Failure> {
     };
 
     let start = Instant::now();
-    let frame = Box::new(
-        Frame::new(&file.scene, &camera, options)
-            .map_err(|e| Failure(2, format!("--samples: {e}")))?,
-    );
+    // On the stack, not boxed: `Box::new` copies the whole frame, its capacity included
+    // (0.56 MB at 1024 spheres and 32 lights), into fresh heap pages, which took 0.3-0.4 ms
+    // of a 15 ms render; only the parts a scene uses are ever written here.
+    let frame = Frame::new(&file.scene, &camera, options)
+        .map_err(|e| Failure(2, format!("--samples: {e}")))?;
     let pixels = render_parallel(&frame, threads);
     let ms = start.elapsed().as_secs_f64() * 1e3;
 
