@@ -36,7 +36,7 @@
 //! squares overflow f32 are scaled by powers of two first, which is exact.
 //! docs/numerics.md measures what each of these costs and buys.
 
-use crate::math::{finite, sqrt, two_product, two_square, two_sum, Vec3};
+use crate::math::{finite, sqrt, two_product_of, two_square_of, two_sum_of, Ieee, Vec3};
 
 /// A ray `origin + t·dir`; `dir` need not be unit length.
 ///
@@ -211,33 +211,30 @@ fn c_near_xyz<const OFFSET: bool>(
     mz: f32,
     radius: f32,
 ) -> f32 {
-    let (base, offset, m) = (
-        Vec3::new(bx, by, bz),
-        Vec3::new(ox, oy, oz),
-        Vec3::new(mx, my, mz),
-    );
-    let (pr, er) = two_square(radius);
+    c_near_of::<f32, OFFSET>([bx, by, bz], [ox, oy, oz], [mx, my, mz], radius)
+}
+
+/// [`c_near_xyz`]'s operations on any [`Ieee`] type (one f32, or four lanes on hosts).
+#[inline(always)]
+fn c_near_of<T: Ieee, const OFFSET: bool>(base: [T; 3], offset: [T; 3], m: [T; 3], radius: T) -> T {
+    let (pr, er) = two_square_of(radius);
     // `big` the rounded sum of the squares; `small` every error term, each ~2⁻²⁴ of the total.
-    let (mut big, mut small) = (-pr, -er);
+    let (mut big, mut small) = (pr.flip(), er.flip());
     // A loop, not three copies: flash is scarce, and at opt-level 3 LLVM unrolls it anyway.
-    for (b, (o, m)) in [base.x, base.y, base.z].into_iter().zip(
-        [offset.x, offset.y, offset.z]
-            .into_iter()
-            .zip([m.x, m.y, m.z]),
-    ) {
-        let (g, gl) = two_sum(b, -m);
+    for (b, (o, m)) in base.into_iter().zip(offset.into_iter().zip(m)) {
+        let (g, gl) = two_sum_of(b, m.flip());
         // `two_sum(g, 0.0)` is `(g + 0.0, +0.0)` for every finite g.
         let (h, e) = if OFFSET {
-            two_sum(g, o)
+            two_sum_of(g, o)
         } else {
-            (g + 0.0, 0.0)
+            (g + T::splat(0.0), T::splat(0.0))
         };
         let l = gl + e;
-        let (p, ep) = two_square(h);
-        let (sum, t) = two_sum(big, p);
+        let (p, ep) = two_square_of(h);
+        let (sum, t) = two_sum_of(big, p);
         big = sum;
         // (h + l)² − h² = l (2h + l): small, and rounded only relative to itself.
-        small += (t + ep) + l * (2.0 * h + l);
+        small = small + ((t + ep) + l * (T::splat(2.0) * h + l));
     }
     big + small
 }
@@ -899,11 +896,11 @@ pub(crate) fn hit_point_within(
 /// perpendicular from the centre and `s = √((r² − |l|²)/a)`, the sign that of the root that `t`
 /// approximates (`−b/a ∓ s`). `l` is computed as `d × (f × d) / a`: the cross product `f × d`
 /// is where the cancellation is (f nearly along d, |l| ≪ |f|), so each of its components is
-/// taken from exact products ([`two_product`]), whose difference is then exact or nearly (good
-/// to ~2⁻⁴⁸ |f||d| where the plain one errs by 2⁻²⁴ |f||d|); `d × w` and the divide do not
-/// cancel. `r² − |l|²` is `c_near`'s (exact squares). All in f32: f64 would
-/// do as well, but it is software on a Cortex-M. Scalar arguments, as for `c_near_xyz`: `Vec3`s
-/// would keep the callers' rays in memory.
+/// taken from exact products ([`two_product`](crate::math::two_product)), whose difference is
+/// then exact or nearly (good to ~2⁻⁴⁸ |f||d| where the plain one errs by 2⁻²⁴ |f||d|); `d × w`
+/// and the divide do not cancel. `r² − |l|²` is `c_near`'s (exact squares). All in f32: f64
+/// would do as well, but it is software on a Cortex-M. Scalar arguments, as for `c_near_xyz`:
+/// `Vec3`s would keep the callers' rays in memory.
 #[cold]
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
@@ -952,7 +949,13 @@ fn hit_point_far(
 /// Out of line: one copy for the three components of a cold path.
 #[inline(never)]
 fn product_difference(a: f32, b: f32, c: f32, e: f32) -> f32 {
-    let ((p, pe), (q, qe)) = (two_product(a, b), two_product(c, e));
+    product_difference_of(a, b, c, e)
+}
+
+/// [`product_difference`] on any [`Ieee`] type.
+#[inline(always)]
+fn product_difference_of<T: Ieee>(a: T, b: T, c: T, e: T) -> T {
+    let ((p, pe), (q, qe)) = (two_product_of(a, b), two_product_of(c, e));
     (p - q) + (pe - qe)
 }
 

@@ -267,6 +267,46 @@ pub fn finite(x: f32) -> bool {
 /// ```
 #[inline(always)]
 pub fn two_sum(a: f32, b: f32) -> (f32, f32) {
+    two_sum_of(a, b)
+}
+
+/// The IEEE operations of the error-free transformations, on one f32 and (`cfg(lanes)`) on the
+/// four lanes of a vector: both run the one generic definition, the same operations in the same
+/// order, so a lane computes the scalar bits.
+pub(crate) trait Ieee:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self>
+{
+    fn splat(x: f32) -> Self;
+    /// `-x`: the sign flipped.
+    fn flip(self) -> Self;
+}
+
+impl Ieee for f32 {
+    #[inline(always)]
+    fn splat(x: f32) -> f32 {
+        x
+    }
+    #[inline(always)]
+    fn flip(self) -> f32 {
+        -self
+    }
+}
+
+#[cfg(lanes)]
+impl Ieee for lanes::F {
+    #[inline(always)]
+    fn splat(x: f32) -> lanes::F {
+        lanes::F::splat(x)
+    }
+    #[inline(always)]
+    fn flip(self) -> lanes::F {
+        lanes::neg(self)
+    }
+}
+
+/// [`two_sum`] on any [`Ieee`] type.
+#[inline(always)]
+pub(crate) fn two_sum_of<T: Ieee>(a: T, b: T) -> (T, T) {
     let s = a + b;
     let bv = s - a;
     (s, (a - (s - bv)) + (b - bv))
@@ -275,8 +315,8 @@ pub fn two_sum(a: f32, b: f32) -> (f32, f32) {
 /// Veltkamp's split: `a = hi + lo` with halves of at most 12 significant bits, whose products
 /// are exact in f32.
 #[inline(always)]
-fn split(a: f32) -> (f32, f32) {
-    let t = a * 4097.0; // 2¹² + 1
+fn split<T: Ieee>(a: T) -> (T, T) {
+    let t = a * T::splat(4097.0); // 2¹² + 1
     let hi = t - (t - a);
     (hi, a - hi)
 }
@@ -294,9 +334,15 @@ fn split(a: f32) -> (f32, f32) {
 /// ```
 #[inline(always)]
 pub fn two_square(a: f32) -> (f32, f32) {
+    two_square_of(a)
+}
+
+/// [`two_square`] on any [`Ieee`] type.
+#[inline(always)]
+pub(crate) fn two_square_of<T: Ieee>(a: T) -> (T, T) {
     let p = a * a;
     let (hi, lo) = split(a);
-    (p, ((hi * hi - p) + 2.0 * hi * lo) + lo * lo)
+    (p, ((hi * hi - p) + T::splat(2.0) * hi * lo) + lo * lo)
 }
 
 /// `a·b` rounded, and the rounding error exactly: `a·b = p + e` ([`two_square`]'s method for
@@ -310,6 +356,12 @@ pub fn two_square(a: f32) -> (f32, f32) {
 /// ```
 #[inline(always)]
 pub fn two_product(a: f32, b: f32) -> (f32, f32) {
+    two_product_of(a, b)
+}
+
+/// [`two_product`] on any [`Ieee`] type.
+#[inline(always)]
+pub(crate) fn two_product_of<T: Ieee>(a: T, b: T) -> (T, T) {
     let p = a * b;
     let ((ah, al), (bh, bl)) = (split(a), split(b));
     (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
