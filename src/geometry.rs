@@ -900,7 +900,8 @@ pub(crate) fn hit_point_within(
 /// then exact or nearly (good to ~2⁻⁴⁸ |f||d| where the plain one errs by 2⁻²⁴ |f||d|); `d × w`
 /// and the divide do not cancel. `r² − |l|²` is `c_near`'s (exact squares). All in f32: f64
 /// would do as well, but it is software on a Cortex-M. Scalar arguments, as for `c_near_xyz`:
-/// `Vec3`s would keep the callers' rays in memory.
+/// `Vec3`s would keep the callers' rays in memory. Hosts take four at a time where they can
+/// (`hit_point_far4`).
 #[cold]
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
@@ -943,6 +944,46 @@ fn hit_point_far(
     } else {
         None
     }
+}
+
+/// [`hit_point_far`] of four rays from one origin (`f` their common `o − m`, as for primary
+/// rays) with directions `d` and parameters `t`: its operations lane by lane, so each lane is
+/// the scalar `Some((point, offset))`, bit for bit; `None` where a lane is not finite (the
+/// scalar call then falls back for it). On hosts, where many small far spheres make this path
+/// warm (~70 x86 instructions a pixel at 256 spheres when it was scalar).
+#[cfg(lanes)]
+#[inline(always)]
+pub(crate) fn hit_point_far4(
+    d: crate::math::lanes::V,
+    t: crate::math::lanes::F,
+    f: Vec3,
+    sphere: &Sphere,
+) -> Option<(crate::math::lanes::V, crate::math::lanes::V)> {
+    use crate::math::lanes::{neg, F, V};
+    use wide::{CmpGt, CmpLe};
+    let fv = V::splat(f);
+    let w = V {
+        x: product_difference_of(fv.y, d.z, fv.z, d.y),
+        y: product_difference_of(fv.z, d.x, fv.x, d.z),
+        z: product_difference_of(fv.x, d.y, fv.y, d.x),
+    };
+    let a = d.dot(d);
+    let l = d.cross(w).div(a);
+    let zero = F::splat(0.0);
+    let h2 = c_near_of::<F, true>(
+        [l.x, l.y, l.z],
+        [zero; 3],
+        [zero; 3],
+        F::splat(sphere.radius),
+    );
+    let h2 = neg(h2);
+    let s = h2.cmp_gt(zero).blend(h2 / a, zero).sqrt();
+    let k = fv.dot(d) / a;
+    let nearer = (t - (neg(k) - s)).abs().cmp_le((t - (neg(k) + s)).abs());
+    let s = nearer.blend(neg(s), s);
+    let offset = l.add(d.mul(s));
+    let point = V::splat(sphere.center).add(offset);
+    (offset.finite() & point.finite() == 0b1111).then_some((point, offset))
 }
 
 /// `a·b − c·e` from the exact products: exact or nearly where the two agree in most bits.
@@ -1181,5 +1222,67 @@ mod lane_tests {
             "{open_claimed} of {open_misses} open misses claimed ({claimed} of {misses} in \
              all), {grazing} grazing"
         );
+    }
+
+    /// `hit_point_far4` is `hit_point_far` lane by lane, bit for bit: primary rays from one
+    /// origin 30 … 10⁵ radii from spheres of radius 10⁻⁴ … 10², centres up to 10⁴ away from
+    /// the origin of coordinates, hitting near the rim and the middle, both roots, and `t`
+    /// perturbed as a rounded root is; `None` only where a lane's scalar answer is not finite.
+    #[test]
+    fn hit_point_far4_is_the_scalar_offset() {
+        use crate::math::lanes::{F, V};
+        let mut g = TestRng(0x5851_f42d_4c95_7f2d);
+        let (mut some, mut cases) = (0u32, 0u32);
+        for case in 0..50_000u32 {
+            let r = g.mag(-4, 3).abs();
+            let m = g.decades(-2, 5);
+            let dist = r * libm::powf(10.0, 1.5 + 3.5 * g.unit());
+            let u = g.vec(2.0).normalized().unwrap_or(Vec3::new(0.0, 0.0, 1.0));
+            let origin = m + u * dist;
+            let s = Sphere::new(m, r);
+            let k = Prepared::exact(origin, &s);
+            let ds: [Vec3; 4] = core::array::from_fn(|_| {
+                // Aim at a point of the disc the sphere shows, out to its rim.
+                let aim = m + g.vec(2.0 * r) * (0.5 + 0.5 * g.unit()) - origin;
+                aim * g.mag(-2, 2).abs()
+            });
+            let ts: [f32; 4] = core::array::from_fn(|l| {
+                let t = match k.roots(ds[l]) {
+                    Some((near, far)) => {
+                        if case % 5 == 0 {
+                            far
+                        } else {
+                            near
+                        }
+                    }
+                    None => 1.0,
+                };
+                // a rounded root: a few ulp either way
+                f32::from_bits((t.to_bits() as i64 + (g.next() % 9) as i64 - 4) as u32)
+            });
+            let scalar: [Option<(Vec3, Vec3)>; 4] = core::array::from_fn(|l| {
+                let (d, f) = (ds[l], k.f);
+                hit_point_far(d.x, d.y, d.z, ts[l], f.x, f.y, f.z, &s)
+            });
+            cases += 1;
+            let bits = |v: Vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+            match hit_point_far4(V::from_lanes(ds), F::from(ts), k.f, &s) {
+                Some((p, o)) => {
+                    some += 1;
+                    for l in 0..4 {
+                        let (sp, so) = scalar[l].expect("a lane the scalar call rejects");
+                        assert_eq!(
+                            (bits(p.lane(l)), bits(o.lane(l))),
+                            (bits(sp), bits(so)),
+                            "case {case} lane {l}: {s:?} from {origin:?} along {:?} t {}",
+                            ds[l],
+                            ts[l]
+                        );
+                    }
+                }
+                None => assert!(scalar.iter().any(Option::is_none), "case {case}"),
+            }
+        }
+        assert!(some > cases - cases / 100, "{some} of {cases}");
     }
 }

@@ -595,6 +595,23 @@ pub(crate) mod lanes {
                 z: self.z * o.z,
             }
         }
+        /// `Vec3::cross`'s formula.
+        #[inline(always)]
+        pub(crate) fn cross(self, o: V) -> V {
+            V {
+                x: self.y * o.z - self.z * o.y,
+                y: self.z * o.x - self.x * o.z,
+                z: self.x * o.y - self.y * o.x,
+            }
+        }
+        /// All three coordinates finite, as bits `0..4`.
+        #[inline(always)]
+        pub(crate) fn finite(self) -> u32 {
+            use wide::CmpLe;
+            let max = F::splat(f32::MAX);
+            let ok = self.x.abs().cmp_le(max) & self.y.abs().cmp_le(max) & self.z.abs().cmp_le(max);
+            bits(ok)
+        }
         /// `Vec3::normalize_fast`: each coordinate divided by the length.
         #[inline(always)]
         pub(crate) fn normalize_fast(self) -> V {

@@ -1164,7 +1164,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         t: &[f32; PAD],
         sp: &[u16; PAD],
     ) {
-        use crate::geometry::LANES;
+        use crate::geometry::{hit_point_far4, LANES};
         use wide::f32x4 as F;
         let eye = self.camera.eye();
         let spheres = self.scene.spheres();
@@ -1186,6 +1186,29 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let s = sp[m];
             let whole = m + LANES <= len && sp[m..m + LANES].iter().all(|&x| x == s);
             let near = whole && self.offset_near(s as usize);
+            // Four hits on one sphere beyond `near2`: `hit_point_far` lane by lane.
+            if whole && !near {
+                if let (Some(k), Some(sphere)) = (self.eye.get(s as usize), spheres.get(s as usize))
+                {
+                    let lanes = |a: &[f32; PAD]| {
+                        F::from(core::array::from_fn::<f32, LANES, _>(|l| a[m + l]))
+                    };
+                    let d = crate::math::lanes::V {
+                        x: lanes(dx),
+                        y: lanes(dy),
+                        z: lanes(dz),
+                    };
+                    if let Some((p, o)) = hit_point_far4(d, lanes(t), k.f, sphere) {
+                        for l in 0..LANES {
+                            if let (Some(pp), Some(oo)) = (ps.get_mut(m + l), os.get_mut(m + l)) {
+                                (*pp, *oo) = (p.lane(l), o.lane(l));
+                            }
+                        }
+                        m += LANES;
+                        continue;
+                    }
+                }
+            }
             if !near {
                 let end = if whole { m + LANES } else { m + 1 };
                 for (q, &sq) in sp.iter().enumerate().take(end.min(len)).skip(m) {
