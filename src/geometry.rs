@@ -582,21 +582,25 @@ pub(crate) struct LaneHits {
     pub t: [f32; LANES],
 }
 
-/// The lanes (bits `0..4`) in which [`Prepared::leaving_blocks`] from `anchor + rel` along `d`
-/// answers false at `fused`'s first two tests (a clear miss of the sphere's line, or a sphere
-/// behind), before any compensated `c`: their IEEE operations lane by lane, in their order, so a
-/// set bit is the scalar answer whatever `tmax`. The other lanes need the scalar test. Shadow
-/// rays of four pixels meet most candidates this way.
+/// [`Prepared::leaving_blocks`] from `anchor + rel` along `d` for the lanes `open` of four
+/// rays, as far as lanes decide it: `(blocked, undecided)` as bits `0..4`, every other lane of
+/// `open` a miss. `fused`'s steps lane by lane, the same IEEE operations in its order: its
+/// clear-miss and behind tests, then, where it keeps the f32 `c` (no cancellation) and the
+/// origin is outside, `hit_ab` (`lanes_hit`). The undecided lanes (a cancelling `c`, an origin
+/// inside the sphere, a rare path of the roots) need the scalar test. Shadow rays of four
+/// pixels meet most candidates this way.
 #[cfg(lanes)]
 #[inline(always)]
-pub(crate) fn leaving_misses4(
+pub(crate) fn leaving_blocks4(
     anchor: crate::math::lanes::V,
     rel: crate::math::lanes::V,
     sphere: &Sphere,
     d: crate::math::lanes::V,
-) -> u32 {
+    tmax: f32,
+    open: u32,
+) -> (u32, u32) {
     use crate::math::lanes::{bits, neg, F, V};
-    use wide::{CmpGe, CmpGt, CmpLt};
+    use wide::{CmpGe, CmpGt, CmpLe, CmpLt};
     let f = anchor.sub(V::splat(sphere.center)).add(rel);
     let r = sphere.radius;
     let (ff, rr) = (f.dot(f), F::splat(r * r));
@@ -609,7 +613,20 @@ pub(crate) fn leaving_misses4(
     let err_c = sum * F::splat(1.0 / 1_048_576.0);
     // `tmin ≥ 0` holds: `leaving_blocks` starts at the smallest normal number.
     let behind = c.cmp_gt(err_c) & b.cmp_ge(F::ZERO);
-    bits(clear | behind)
+    let maybe = open & !bits(clear | behind);
+    if maybe == 0 {
+        return (0, 0);
+    }
+    // `fused` keeps c where `|c| > sum·CANCEL` and c is finite; `hit_ab` then takes Hearn–Baker's
+    // discriminant where |c| > r² (all such lanes with c > 0, since c > 2r² there).
+    let cabs = c.abs();
+    let keeps = cabs.cmp_gt(sum * F::splat(CANCEL)) & cabs.cmp_le(F::splat(f32::MAX));
+    let kept = maybe & bits(keeps & c.cmp_gt(F::ZERO) & cabs.cmp_gt(rr));
+    if kept == 0 {
+        return (0, maybe);
+    }
+    let h = lanes_hit(f, c, rr, true, d, f32::MIN_POSITIVE, F::splat(tmax));
+    (h.hit & !h.redo & kept, (maybe & !kept) | (h.redo & kept))
 }
 
 #[cfg(lanes)]
@@ -634,83 +651,107 @@ impl Prepared {
         tmin: f32,
         tmax: [f32; LANES],
     ) -> LaneHits {
-        use crate::math::lanes::{neg, F as f32x4};
-        use wide::{CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
-        let v = f32x4::splat;
-        let (fx, fy, fz) = (v(self.f.x), v(self.f.y), v(self.f.z));
-        let (c, r) = (self.c, self.r);
-        let (cv, cabs, rr) = (v(c), v(libm::fabsf(c)), v(r * r));
-        let (dx, dy, dz) = (f32x4::from(dx), f32x4::from(dy), f32x4::from(dz));
-        let (tmin, tmax, zero, max) = (v(tmin), f32x4::from(tmax), v(0.0), v(f32::MAX));
-        let all = |m: bool| if m { v(f32::from_bits(!0)) } else { zero };
-        // `d.dot(d)`, `f.dot(d)`: the same association as `Vec3::dot`.
-        let a = dx * dx + dy * dy + dz * dz;
-        let b = fx * dx + fy * dy + fz * dz;
-        // `hit_ab_xyz`'s steps, in its order.
-        let bb = b * b;
-        let disc0 = bb - a * cv;
-        let clear_miss = disc0.cmp_lt(neg(bb + a * cabs) * v(1.0 / 262_144.0));
-        let cpos = all(c > 0.0);
-        let behind = cpos & b.cmp_ge(zero) & tmin.cmp_ge(zero);
-        let open = !(clear_miss | behind);
-        // Every lane a clear miss or behind: the rest, divides and a root, is not needed.
-        if open.move_mask() == 0 {
-            return LaneHits {
-                hit: 0,
-                redo: 0,
-                t: [0.0; LANES],
-            };
-        }
-        let disc = if hb {
-            let k = b / a;
-            let (lx, ly, lz) = (fx - dx * k, fy - dy * k, fz - dz * k);
-            a * (rr - (lx * lx + ly * ly + lz * lz))
-        } else {
-            disc0
+        use crate::math::lanes::{F, V};
+        let v = F::splat;
+        let f = V::splat(self.f);
+        let d = V {
+            x: F::from(dx),
+            y: F::from(dy),
+            z: F::from(dz),
         };
-        let in_range = zero.cmp_le(disc) & disc.cmp_le(max);
-        let negative = disc.cmp_lt(zero) & disc.abs().cmp_le(max);
-        let s = disc.sqrt();
-        let q = b.cmp_gt(zero).blend(neg(b + s), s - b);
-        // `near_root`
-        let far_ahead = cpos & b.cmp_lt(zero) & s.cmp_lt(v(-0.5) * b);
-        let q_zero = q.cmp_eq(zero);
-        let redo = open & ((!(in_range | negative)) | (in_range & q_zero));
-        // The lanes whose answer this test gives: their other lanes' `t` is never read.
-        let live = open & in_range & !q_zero;
-        let lives = live.move_mask();
-        // Neighbouring rays mostly take the same arm of `near_root` (small spheres the first,
-        // a ground below the eye the second) and have their near root in range: then one
-        // divide, not three.
-        let ahead = far_ahead.move_mask() & lives;
-        let t0 = if ahead == 0 {
-            cv / q
-        } else if ahead == lives {
-            (neg(b) - s) / a
-        } else {
-            far_ahead.blend((neg(b) - s) / a, cv / q)
+        let r = self.r;
+        lanes_hit(f, v(self.c), v(r * r), hb, d, tmin, F::from(tmax))
+    }
+}
+
+/// [`Prepared::hit_lanes`] with constants of their own in each lane (`f`, `c`; `rr` = r²), as
+/// the shadow rays of four pixels have towards one sphere: each lane is `hit_ab_xyz` on its
+/// values, or marked to redo. `hb` (Hearn–Baker's discriminant) is one choice for all lanes.
+#[cfg(lanes)]
+#[inline(always)]
+fn lanes_hit(
+    f: crate::math::lanes::V,
+    cv: crate::math::lanes::F,
+    rr: crate::math::lanes::F,
+    hb: bool,
+    d: crate::math::lanes::V,
+    tmin: f32,
+    tmax: crate::math::lanes::F,
+) -> LaneHits {
+    use crate::math::lanes::{neg, F as f32x4};
+    use wide::{CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
+    let v = f32x4::splat;
+    let (fx, fy, fz) = (f.x, f.y, f.z);
+    let cabs = cv.abs();
+    let (dx, dy, dz) = (d.x, d.y, d.z);
+    let (tmin, zero, max) = (v(tmin), v(0.0), v(f32::MAX));
+    // `d.dot(d)`, `f.dot(d)`: the same association as `Vec3::dot`.
+    let a = dx * dx + dy * dy + dz * dz;
+    let b = fx * dx + fy * dy + fz * dz;
+    // `hit_ab_xyz`'s steps, in its order.
+    let bb = b * b;
+    let disc0 = bb - a * cv;
+    let clear_miss = disc0.cmp_lt(neg(bb + a * cabs) * v(1.0 / 262_144.0));
+    let cpos = cv.cmp_gt(zero);
+    let behind = cpos & b.cmp_ge(zero) & tmin.cmp_ge(zero);
+    let open = !(clear_miss | behind);
+    // Every lane a clear miss or behind: the rest, divides and a root, is not needed.
+    if open.move_mask() == 0 {
+        return LaneHits {
+            hit: 0,
+            redo: 0,
+            t: [0.0; LANES],
         };
-        let ok = |t: f32x4| t.cmp_ge(tmin) & t.cmp_le(tmax) & t.cmp_lt(v(f32::INFINITY));
-        let early = q.cmp_gt(zero) & cpos & ok(t0);
-        if early.move_mask() & lives == lives {
-            return LaneHits {
-                hit: lives as u32,
-                redo: redo.move_mask() as u32,
-                t: t0.to_array(),
-            };
-        }
-        let t1 = q / a;
-        let ordered = t0.cmp_le(t1);
-        let (near, far) = (ordered.blend(t0, t1), ordered.blend(t1, t0));
-        let take_near = early | ok(near);
-        let t = early.blend(t0, take_near.blend(near, far));
-        let found = take_near | ok(far);
-        let hit = live & found;
-        LaneHits {
-            hit: hit.move_mask() as u32,
+    }
+    let disc = if hb {
+        let k = b / a;
+        let (lx, ly, lz) = (fx - dx * k, fy - dy * k, fz - dz * k);
+        a * (rr - (lx * lx + ly * ly + lz * lz))
+    } else {
+        disc0
+    };
+    let in_range = zero.cmp_le(disc) & disc.cmp_le(max);
+    let negative = disc.cmp_lt(zero) & disc.abs().cmp_le(max);
+    let s = disc.sqrt();
+    let q = b.cmp_gt(zero).blend(neg(b + s), s - b);
+    // `near_root`
+    let far_ahead = cpos & b.cmp_lt(zero) & s.cmp_lt(v(-0.5) * b);
+    let q_zero = q.cmp_eq(zero);
+    let redo = open & ((!(in_range | negative)) | (in_range & q_zero));
+    // The lanes whose answer this test gives: their other lanes' `t` is never read.
+    let live = open & in_range & !q_zero;
+    let lives = live.move_mask();
+    // Neighbouring rays mostly take the same arm of `near_root` (small spheres the first,
+    // a ground below the eye the second) and have their near root in range: then one
+    // divide, not three.
+    let ahead = far_ahead.move_mask() & lives;
+    let t0 = if ahead == 0 {
+        cv / q
+    } else if ahead == lives {
+        (neg(b) - s) / a
+    } else {
+        far_ahead.blend((neg(b) - s) / a, cv / q)
+    };
+    let ok = |t: f32x4| t.cmp_ge(tmin) & t.cmp_le(tmax) & t.cmp_lt(v(f32::INFINITY));
+    let early = q.cmp_gt(zero) & cpos & ok(t0);
+    if early.move_mask() & lives == lives {
+        return LaneHits {
+            hit: lives as u32,
             redo: redo.move_mask() as u32,
-            t: t.to_array(),
-        }
+            t: t0.to_array(),
+        };
+    }
+    let t1 = q / a;
+    let ordered = t0.cmp_le(t1);
+    let (near, far) = (ordered.blend(t0, t1), ordered.blend(t1, t0));
+    let take_near = early | ok(near);
+    let t = early.blend(t0, take_near.blend(near, far));
+    let found = take_near | ok(far);
+    let hit = live & found;
+    LaneHits {
+        hit: hit.move_mask() as u32,
+        redo: redo.move_mask() as u32,
+        t: t.to_array(),
     }
 }
 
@@ -1136,18 +1177,19 @@ mod lane_tests {
         );
     }
 
-    /// `leaving_misses4` claims a lane only where the scalar `leaving_blocks` finds no block,
-    /// for shadow rays from just above spheres of radius 10⁻² … 10⁶ (the hit given as an anchor
-    /// and an offset, as shading gives it), many of them grazing the sphere to within 10⁻¹² …
-    /// 10⁻³ of its radius, where the clear-miss margin must cover the error of an f32 `c` that
-    /// cancels; and it claims most of the misses (a mask that claims nothing would pass the
-    /// first check alone).
+    /// Every lane that `leaving_blocks4` decides is the scalar `leaving_blocks`, for shadow rays
+    /// from just above spheres of radius 10⁻² … 10⁶ (the hit given as an anchor and an offset,
+    /// as shading gives it), many of them grazing the sphere to within 10⁻¹² … 10⁻³ of its
+    /// radius, where the clear-miss margin must cover the error of an f32 `c` that cancels; and
+    /// it decides most lanes, misses and blocks (a function that decides nothing would pass
+    /// the first check alone).
     #[test]
-    fn leaving_misses4_claims_only_scalar_misses() {
+    fn leaving_blocks4_decides_as_the_scalar_test() {
         use crate::math::lanes::V;
         let mut g = TestRng(0x2545_f491_4f6c_dd1d);
         let (mut claimed, mut misses, mut grazing) = (0u32, 0u32, 0u32);
         let (mut open_claimed, mut open_misses) = (0u32, 0u32);
+        let (mut blocks_decided, mut blocks_all) = (0u32, 0u32);
         let unit = |g: &mut TestRng| loop {
             let v = [g.unit() - 0.5, g.unit() - 0.5, g.unit() - 0.5].map(f64::from);
             let n = libm::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -1165,7 +1207,8 @@ mod lane_tests {
             let (r, m) = (f64::from(s.radius), [c.x, c.y, c.z].map(f64::from));
             let lane = |g: &mut TestRng| {
                 let u = unit(g);
-                let h = r * libm::pow(10.0, -7.0 + 7.0 * f64::from(g.unit()));
+                // From just above (the hit's own sphere) to 100 radii away (another's).
+                let h = r * libm::pow(10.0, -7.0 + 9.0 * f64::from(g.unit()));
                 let p = [0, 1, 2].map(|i| m[i] + u[i] * (r + h));
                 // A direction whose closest approach to the centre is r (1 ± δ), or any.
                 let mut close = f64::INFINITY;
@@ -1188,22 +1231,31 @@ mod lane_tests {
                 let anchor = v32([0, 1, 2].map(|i| p[i] + w[i] * k));
                 let a = [anchor.x, anchor.y, anchor.z].map(f64::from);
                 let rel = v32([0, 1, 2].map(|i| p[i] - a[i]));
-                (anchor, rel, v32(d), close)
+                (anchor, rel, v32(d), close, h > r)
             };
-            let ls: [(Vec3, Vec3, Vec3, f64); 4] = core::array::from_fn(|_| lane(&mut g));
-            let bits = leaving_misses4(
+            let ls: [(Vec3, Vec3, Vec3, f64, bool); 4] = core::array::from_fn(|_| lane(&mut g));
+            let tmax = if case % 3 == 0 { 1.0 } else { f32::INFINITY };
+            let (hit, undecided) = leaving_blocks4(
                 V::from_lanes(ls.map(|l| l.0)),
                 V::from_lanes(ls.map(|l| l.1)),
                 &s,
                 V::from_lanes(ls.map(|l| l.2)),
+                tmax,
+                0b1111,
             );
-            for (l, &(anchor, rel, d, close)) in ls.iter().enumerate() {
-                let blocks = Prepared::leaving_blocks(anchor, rel, &s, d, f32::INFINITY);
-                let claim = bits & (1 << l) != 0;
+            for (l, &(anchor, rel, d, close, far)) in ls.iter().enumerate() {
+                let blocks = Prepared::leaving_blocks(anchor, rel, &s, d, tmax);
+                let decided = undecided & (1 << l) == 0;
+                let lane = hit & (1 << l) != 0;
                 assert!(
-                    !(claim && blocks),
-                    "case {case} lane {l}: {s:?} anchor {anchor:?} rel {rel:?} d {d:?}"
+                    !decided || lane == blocks,
+                    "case {case} lane {l}: {s:?} anchor {anchor:?} rel {rel:?} d {d:?} tmax {tmax}"
                 );
+                if far {
+                    blocks_all += blocks as u32;
+                    blocks_decided += (blocks && decided) as u32;
+                }
+                let claim = decided && !lane;
                 misses += !blocks as u32;
                 claimed += claim as u32;
                 // Passing within 10⁻⁴ radii of the sphere, and claimed: near the margin's edge.
@@ -1221,6 +1273,12 @@ mod lane_tests {
             open_claimed > open_misses - open_misses / 5 && grazing > 1000,
             "{open_claimed} of {open_misses} open misses claimed ({claimed} of {misses} in \
              all), {grazing} grazing"
+        );
+        // Blocks from origins more than a radius away (another sphere's shadow rays): the
+        // lanes decide them, but for those that graze within the margins.
+        assert!(
+            blocks_decided > blocks_all - blocks_all / 10,
+            "{blocks_decided} of {blocks_all} blocks from afar decided in lanes"
         );
     }
 

@@ -325,10 +325,10 @@ pub(crate) fn shade_lit4<const S: usize, const L: usize>(
 
 /// [`in_shadow_among`] for the lanes `ask` of four hits on one sphere (`to` their
 /// [`to_light`] vectors): the bits of those in shadow. Each candidate is weighed for the four
-/// lanes at once where the scalar test's first steps allow (a clear miss or a sphere behind,
-/// decided by the same operations lane by lane, and the point light's constants through
-/// [`Prepared::hit_lanes`]); the lanes that remain get the scalar test of that sphere, so every
-/// answer is the scalar one. Lanes that see their sphere from inside take the whole scalar test.
+/// lanes at once as far as lanes decide it (`fused`'s steps lane by lane, and the point light's
+/// constants through [`Prepared::hit_lanes`]); the lanes that remain get the scalar test of
+/// that sphere, so every answer is the scalar one. Lanes that see their sphere from inside
+/// take the whole scalar test.
 #[cfg(lanes)]
 #[inline(always)]
 pub(crate) fn in_shadow4<const S: usize, const L: usize>(
@@ -340,7 +340,7 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
     light_c: impl Fn(usize) -> Option<f32>,
     candidates: &[u16],
 ) -> u32 {
-    use crate::geometry::leaving_misses4;
+    use crate::geometry::leaving_blocks4;
     use crate::math::finite;
     use wide::CmpLt;
     let spheres = scene.spheres();
@@ -356,10 +356,9 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
         }
     }
     let mut open = ask & !inside;
-    // `leaving_blocks` of the lanes in `open` that its first steps leave undecided.
+    // `leaving_blocks` of the lanes in `open`: in lanes, the undecided ones scalar.
     let leaving = |s: &Sphere, d: &V, tmax: f32, open: u32| {
-        let mut maybe = open & !leaving_misses4(h.anchor, h.rel, s, *d);
-        let mut hit = 0;
+        let (mut hit, mut maybe) = leaving_blocks4(h.anchor, h.rel, s, *d, tmax, open);
         while maybe != 0 {
             let l = maybe.trailing_zeros() as usize;
             maybe &= maybe - 1;
