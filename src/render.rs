@@ -445,13 +445,17 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let dir = V::from_lanes([ds[0], ds[1], ds[2], ds[3]]);
             let t = F::from([ts[0], ts[1], ts[2], ts[3]]);
             let r = sphere.radius;
-            // `hit_point_within`'s offset: `f + t·d` within near2 radii, else the kept one.
+            // `hit_point_within`'s offset: `f + t·d` within near2 radii, else the one the span's
+            // bounds kept, or without them (no shadow rays) `hit_point_far`'s, in lanes here.
             let offset = if self.offset_near(si) {
                 V::splat(k.f).add(dir.mul(t))
             } else {
                 match cull.hit_o.get(k0..k0 + 4) {
                     Some(o) if cull.culled => V::from_lanes([o[0], o[1], o[2], o[3]]),
-                    _ => continue,
+                    _ => match crate::geometry::hit_point_far4(dir, t, k.f, sphere) {
+                        Some((_, o)) => o,
+                        None => continue,
+                    },
                 }
             };
             // `hit_from_offset` for rays from the eye (`path` zero).
