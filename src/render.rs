@@ -1469,7 +1469,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 };
                 match band {
                     // Only the spheres whose key is near the span's, and the wide ones.
-                    Some((sweep, key, band, slack)) => {
+                    Some((sweep, key, band, slack, key2)) => {
                         for &s in sweep.wide() {
                             consider(s);
                         }
@@ -1479,7 +1479,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                             if e.0 > key + band {
                                 break;
                             }
-                            if libm::fabsf(e.0 - key) <= e.1 + slack {
+                            if libm::fabsf(e.0 - key) <= e.1 + slack
+                                && libm::fabsf(e.3 - key2) <= e.1 + slack
+                            {
                                 consider(e.2);
                             }
                         }
@@ -1593,12 +1595,17 @@ const ANGLE_MARGIN: f32 = 1e-4;
 struct Sweep<const S: usize> {
     /// The wide spheres first (`wide` of them, keys unused), then the rest as
     /// `(key, half-width, sphere)` sorted by key.
-    entries: heapless::Vec<(f32, f32, u16), S>,
+    entries: heapless::Vec<(f32, f32, u16, f32), S>,
     wide: usize,
     /// The largest half-width of the sorted ones.
     hw_max: f32,
     /// The key axis (unit).
     axis: Vec3,
+    /// For a directional light, a second axis across it (unit, across `axis` too), whose
+    /// positions are each entry's last field: a sphere must be near the span in both, a tube
+    /// along the light instead of a slab. Zero for point lights (their second key would cost
+    /// an `atan2f` per span).
+    axis2: Vec3,
 }
 
 impl<const S: usize> Sweep<S> {
@@ -1608,6 +1615,7 @@ impl<const S: usize> Sweep<S> {
             wide: 0,
             hw_max: 0.0,
             axis: Vec3::ZERO,
+            axis2: Vec3::ZERO,
         }
     }
 
@@ -1628,7 +1636,11 @@ impl<const S: usize> Sweep<S> {
             return sweep;
         };
         sweep.axis = axis;
-        let mut all: heapless::Vec<(f32, f32, u16), S> = heapless::Vec::new();
+        if let Light::Directional { direction, .. } = *light {
+            sweep.axis2 = direction.cross(axis).normalized().unwrap_or(Vec3::ZERO);
+        }
+        let axis2 = sweep.axis2;
+        let mut all: heapless::Vec<(f32, f32, u16, f32), S> = heapless::Vec::new();
         for (s, sphere) in spheres.iter().enumerate() {
             let (m, r) = (sphere.center, sphere.radius);
             let l1 = |w: Vec3| libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z);
@@ -1639,18 +1651,18 @@ impl<const S: usize> Sweep<S> {
                     let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(w) + r);
                     let ww = w.dot(w);
                     if !(ww > big * big * 1.01) {
-                        (0.0, f32::INFINITY, s as u16) // the light inside or near: wide
+                        (0.0, f32::INFINITY, s as u16, 0.0) // the light inside or near: wide
                     } else {
                         let key = libm::atan2f(axis.cross(w).length(), axis.dot(w));
                         let hw = libm::atan2f(big, libm::sqrtf(ww - big * big));
-                        (key, hw, s as u16)
+                        (key, hw, s as u16, 0.0)
                     }
                 }
                 Light::Directional { .. } => {
                     // `may_block` pads with 2η|m − q|₁ ≤ 2η(|m|₁ + |q|₁); the |q|₁ part and
                     // the rounding of keys (1e-5 of |m|₁, |q|₁) are added per span.
                     let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(m) + r) + 1e-5 * l1(m);
-                    (axis.dot(m), big, s as u16)
+                    (axis.dot(m), big, s as u16, axis2.dot(m))
                 }
             };
             let _ = all.push(e);
@@ -1659,7 +1671,8 @@ impl<const S: usize> Sweep<S> {
         let mut hws: heapless::Vec<f32, S> = all.iter().map(|e| e.1).collect();
         hws.sort_unstable_by(|a, b| a.total_cmp(b));
         let median = hws.get(hws.len() / 2).copied().unwrap_or(0.0);
-        let is_wide = |e: &(f32, f32, u16)| !(e.1 <= 8.0 * median) || !e.0.is_finite();
+        let is_wide =
+            |e: &(f32, f32, u16, f32)| !(e.1 <= 8.0 * median && e.0.is_finite() && e.3.is_finite());
         for e in all.iter().filter(|e| is_wide(e)) {
             let _ = sweep.entries.push(*e);
         }
@@ -1678,14 +1691,15 @@ impl<const S: usize> Sweep<S> {
         self.entries.iter().take(self.wide).map(|e| &e.2)
     }
 
-    fn narrow(&self) -> &[(f32, f32, u16)] {
+    fn narrow(&self) -> &[(f32, f32, u16, f32)] {
         self.entries.get(self.wide..).unwrap_or(&[])
     }
 
-    /// For shadow rays from the ball `(q, rho)`: `(self, key, band, slack)` where the spheres
-    /// to consider have `|key_j − key| ≤ half-width_j + slack` (so `key_j` within `band`), or
-    /// `None` when the sweep does not apply (no axis, or the light inside the ball).
-    fn band(&self, light: &Light, q: Vec3, rho: f32) -> Option<(&Self, f32, f32, f32)> {
+    /// For shadow rays from the ball `(q, rho)`: `(self, key, band, slack, key2)` where the
+    /// spheres to consider have `|key_j − key| ≤ half-width_j + slack` (so `key_j` within
+    /// `band`) and, along `axis2`, `|key2_j − key2| ≤ half-width_j + slack`; or `None` when the
+    /// sweep does not apply (no axis, or the light inside the ball).
+    fn band(&self, light: &Light, q: Vec3, rho: f32) -> Option<(&Self, f32, f32, f32, f32)> {
         if self.axis == Vec3::ZERO {
             return None;
         }
@@ -1708,10 +1722,12 @@ impl<const S: usize> Sweep<S> {
                 rho + 2.0 * ETA * (l1 + rho) + rho + 1e-5 * l1,
             ),
         };
-        if !(key.is_finite() && slack.is_finite()) {
+        // The same bound holds along any unit axis across a directional light.
+        let key2 = self.axis2.dot(q);
+        if !(key.is_finite() && slack.is_finite() && key2.is_finite()) {
             return None;
         }
-        Some((self, key, self.hw_max + slack, slack))
+        Some((self, key, self.hw_max + slack, slack, key2))
     }
 }
 
