@@ -1284,7 +1284,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // The group of the previous hit's sphere: a sphere keeps its group once it has one,
         // and neighbouring pixels mostly hit the same sphere.
         let mut last = (usize::MAX, 0);
-        let mut extend = |sphere: usize, p: Vec3| {
+        // The box `(lo, hi)` (a point, or several points' box) joins sphere `sphere`'s group.
+        let mut extend = |sphere: usize, (p_lo, p_hi): (Vec3, Vec3)| {
             let g = if sphere == last.0 {
                 last.1
             } else {
@@ -1308,16 +1309,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 // Comparisons, not `f32::min`/`max` (calls to `fminf`/`fmaxf` without an FPU
                 // instruction for them); a NaN coordinate is skipped as `min`/`max` skip it.
                 let (lo, hi) = (&mut gr.lo, &mut gr.hi);
-                for (l, h, v) in [
-                    (&mut lo.x, &mut hi.x, p.x),
-                    (&mut lo.y, &mut hi.y, p.y),
-                    (&mut lo.z, &mut hi.z, p.z),
+                for (l, h, a, b) in [
+                    (&mut lo.x, &mut hi.x, p_lo.x, p_hi.x),
+                    (&mut lo.y, &mut hi.y, p_lo.y, p_hi.y),
+                    (&mut lo.z, &mut hi.z, p_lo.z, p_hi.z),
                 ] {
-                    if v < *l {
-                        *l = v;
+                    if a < *l {
+                        *l = a;
                     }
-                    if v > *h {
-                        *h = v;
+                    if b > *h {
+                        *h = b;
                     }
                 }
             }
@@ -1352,13 +1353,31 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         let base = if kept { base } else { 0 };
                         self.trace_span(i0, i1, ox, y, base, cull);
                         if self.shadow_rays && OFFS > 0 {
-                            // The points `trace_span` computed with its hits (`cfg(lanes)`).
-                            for slot in base..base + (i1 - i0) as usize {
+                            // The points `trace_span` computed with its hits (`cfg(lanes)`), four
+                            // at a time where four neighbours hit one sphere: their box, in
+                            // registers, joins the group once.
+                            let end = base + (i1 - i0) as usize;
+                            let mut slot = base;
+                            while slot < end {
+                                let four = (slot + 4 <= end)
+                                    .then(|| {
+                                        let s = cull.hit_s.get(slot..slot + 4)?;
+                                        let p = cull.hit_p.get(slot..slot + 4)?;
+                                        let same = s[0] != NONE && s.iter().all(|&x| x == s[0]);
+                                        same.then(|| (s[0], box4(p)))
+                                    })
+                                    .flatten();
+                                if let Some((s, b)) = four {
+                                    extend(s as usize, b);
+                                    slot += 4;
+                                    continue;
+                                }
                                 if let (Some((_, s)), Some(&p)) =
                                     (cull.hit(slot), cull.hit_p.get(slot))
                                 {
-                                    extend(s as usize, p);
+                                    extend(s as usize, (p, p));
                                 }
+                                slot += 1;
                             }
                         } else if self.shadow_rays {
                             for slot in base..base + (i1 - i0) as usize {
@@ -1367,7 +1386,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                 {
                                     let ray = Ray::new(self.camera.eye(), dir);
                                     if let Some((p, _)) = point(&ray, t, s as usize) {
-                                        extend(s as usize, p);
+                                        extend(s as usize, (p, p));
                                     }
                                 }
                             }
@@ -1383,7 +1402,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         if let Some((t, s)) = h {
                             if self.shadow_rays {
                                 if let Some((p, _)) = point(&ray, t, s) {
-                                    extend(s, p);
+                                    extend(s, (p, p));
                                 }
                             }
                             // Only a hit is shaded with its ray.
@@ -1514,6 +1533,22 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
         }
     }
+}
+
+/// The box of four points (a coordinate that is NaN skipped, as `Frame::gather`'s bounds skip
+/// it): selections in registers, one group update for four neighbouring hits instead of four.
+#[inline(always)]
+fn box4(p: &[Vec3]) -> (Vec3, Vec3) {
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for q in p {
+        for (k, v) in [q.x, q.y, q.z].into_iter().enumerate() {
+            if let (Some(l), Some(h)) = (lo.get_mut(k), hi.get_mut(k)) {
+                *l = if v < *l { v } else { *l };
+                *h = if v > *h { v } else { *h };
+            }
+        }
+    }
+    (Vec3::from(lo), Vec3::from(hi))
 }
 
 /// Hit groups per span: hits on up to `GROUPS − 1` spheres get their own bound, the rest share
