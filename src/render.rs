@@ -184,6 +184,9 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     /// Every sphere's index: the candidate list of a shadow ray that must test them all, so
     /// that every shadow ray walks a plain slice.
     all: List<S>,
+    /// Per sphere, [`Frame::offset_near`]'s answer, decided once (hosts).
+    #[cfg(lanes)]
+    near: heapless::Vec<bool, S>,
 }
 
 /// Sphere indices: a row's, a span's or a light's candidates.
@@ -251,6 +254,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
             _ => Sweep::empty(),
         });
+        // Capacity S, at most S spheres: cannot fail.
+        #[cfg(lanes)]
+        let near = (eye.iter().zip(scene.spheres()).enumerate())
+            .map(|(s, (k, sphere))| {
+                let r = sphere.radius;
+                k.f.dot(k.f) <= scene.near2(s) * (r * r)
+            })
+            .collect();
         Ok(Frame {
             scene,
             camera,
@@ -263,6 +274,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),
             // Capacity S, at most S spheres (below `REST`, `FITS`): cannot fail.
             all: (0..scene.spheres().len() as u16).collect(),
+            #[cfg(lanes)]
+            near,
         })
     }
 
@@ -505,18 +518,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// Whether `hit_point_within` takes `f + t·d` for primary hits on sphere `s` (its eye
-    /// constants within near2 radii): the same choice for every pixel, which the lane paths
-    /// make once per group of four.
+    /// constants within near2 radii): the same choice for every pixel, which `Frame::new`
+    /// makes once per sphere for the lane paths.
     #[cfg(lanes)]
     #[inline(always)]
     fn offset_near(&self, s: usize) -> bool {
-        match (self.eye.get(s), self.scene.spheres().get(s)) {
-            (Some(k), Some(sphere)) => {
-                let r = sphere.radius;
-                k.f.dot(k.f) <= self.scene.near2(s) * (r * r)
-            }
-            _ => false,
-        }
+        self.near.get(s).copied().unwrap_or(false)
     }
 
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).
