@@ -437,10 +437,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         while m + 4 <= len {
             let k0 = m;
             m += 4;
-            let (Some(ss), Some(ts), Some(ds)) = (
+            let [dx, dy, dz] = &cull.hit_dc;
+            let lanes =
+                |a: &[f32; DPAD]| -> Option<[f32; 4]> { a.get(k0..k0 + 4)?.try_into().ok() };
+            let (Some(ss), Some(ts), Some(x), Some(y), Some(z)) = (
                 cull.hit_s.get(k0..k0 + 4),
                 cull.hit_t.get(k0..k0 + 4),
-                cull.hit_d.get(k0..k0 + 4),
+                lanes(dx),
+                lanes(dy),
+                lanes(dz),
             ) else {
                 break;
             };
@@ -455,7 +460,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             if scene.has_mirror(si) && scene.max_depth() > 0 {
                 continue;
             }
-            let dir = V::from_lanes([ds[0], ds[1], ds[2], ds[3]]);
+            let dir = V {
+                x: F::from(x),
+                y: F::from(y),
+                z: F::from(z),
+            };
             let t = F::from([ts[0], ts[1], ts[2], ts[3]]);
             let r = sphere.radius;
             // `hit_point_within`'s offset: `f + t·d` within near2 radii, else the one the span's
@@ -814,8 +823,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let Some((t, s)) = cull.hit(k) else {
                 return cull.miss;
             };
-            let ray = match cull.hit_d.get(k) {
-                Some(&dir) => Ray::new(self.camera.eye(), dir),
+            let ray = match cull.dir(k) {
+                Some(dir) => Ray::new(self.camera.eye(), dir),
                 None => self.camera.view_ray(i, j, 0, 0, 1),
             };
             // The hit record from (t, sphere): `make_hit` is a pure function of them.
@@ -860,8 +869,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         shadow: Option<&Cull<S, L>>,
         cull: &Cull<S, L>,
     ) -> Color {
-        let ray = match cull.hit_d.get(slot) {
-            Some(&dir) => Ray::new(self.camera.eye(), dir),
+        let ray = match cull.dir(slot) {
+            Some(dir) => Ray::new(self.camera.eye(), dir),
             None => {
                 let (n, m) = (self.samples, (slot / SPAN) as u32);
                 self.camera.view_ray(i, j, m % n, m / n, n)
@@ -999,6 +1008,42 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// constants and box stay in registers across its columns.
     #[inline]
     fn trace_span(&self, i0: u32, i1: u32, ox: f32, y: f32, base: usize, cull: &mut Cull<S, L>) {
+        // Hosts with f32 vector registers: `LANES` columns at a time, and with shadow rays the
+        // hit points for the span's bounds too.
+        #[cfg(lanes)]
+        {
+            const PAD: usize = SPAN + crate::geometry::LANES - 1;
+            let len = (i1 - i0) as usize;
+            let [dx, dy, dz] = &mut cull.hit_dc;
+            fn lanes<const N: usize>(a: &mut [f32; DPAD], base: usize) -> Option<&mut [f32; N]> {
+                a.get_mut(base..base + N)?.try_into().ok()
+            }
+            let (Some(ts), Some(ss), Some(ps), Some(os)) = (
+                cull.hit_t.get_mut(base..base + len),
+                cull.hit_s.get_mut(base..base + len),
+                cull.hit_p.get_mut(base..base + len),
+                cull.hit_o.get_mut(base..base + len),
+            ) else {
+                return;
+            };
+            let (Some(dx), Some(dy), Some(dz)) = (
+                lanes::<PAD>(dx, base),
+                lanes::<PAD>(dy, base),
+                lanes::<PAD>(dz, base),
+            ) else {
+                return;
+            };
+            let points = self.shadow_rays.then_some((ps, os));
+            self.trace_lanes([dx, dy, dz], ts, ss, points, &cull.span, (i0, i1, ox, y));
+        }
+        #[cfg(not(lanes))]
+        self.trace_scalar(i0, i1, ox, y, base, cull);
+    }
+
+    /// `trace_span` one column at a time.
+    #[cfg(not(lanes))]
+    #[inline(always)]
+    fn trace_scalar(&self, i0: u32, i1: u32, ox: f32, y: f32, base: usize, cull: &mut Cull<S, L>) {
         let len = (i1 - i0) as usize;
         let (Some(dirs), Some(ts), Some(ss)) = (
             cull.hit_d.get_mut(base..base + len),
@@ -1007,21 +1052,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         ) else {
             return;
         };
-        // Hosts with f32 vector registers: `LANES` columns at a time, and with shadow rays the
-        // hit points for the span's bounds too.
-        #[cfg(lanes)]
-        {
-            let (Some(ps), Some(os)) = (
-                cull.hit_p.get_mut(base..base + len),
-                cull.hit_o.get_mut(base..base + len),
-            ) else {
-                return;
-            };
-            let points = self.shadow_rays.then_some((ps, os));
-            self.trace_lanes(dirs, ts, ss, points, &cull.span, (i0, i1, ox, y));
-            return;
-        }
-        #[allow(unreachable_code)]
         for ((d, t), (s, i)) in dirs
             .iter_mut()
             .zip(ts.iter_mut())
@@ -1061,13 +1091,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// `trace_span` `LANES` columns at a time: the view directions
     /// ([`Camera::directions4`]) and the sphere loop ([`Prepared::hit_lanes`]), the same
     /// operations and tests in the same order, so the same directions and hits. The directions
-    /// are kept in one array per coordinate too, padded to whole lanes, so that a lane group is
-    /// three plain loads.
+    /// go to the span's arrays by coordinate (`Cull::hit_dc`), padded to whole lanes: their
+    /// lanes past the span hold whatever they held, which only lanes that are not the span's
+    /// read.
     #[cfg(lanes)]
     #[inline(always)]
-    fn trace_lanes(
+    fn trace_lanes<const PAD: usize>(
         &self,
-        dirs: &mut [Vec3],
+        [dx, dy, dz]: [&mut [f32; PAD]; 3],
         ts: &mut [f32],
         ss: &mut [u16],
         points: Option<(&mut [Vec3], &mut [Vec3])>,
@@ -1076,17 +1107,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     ) {
         use crate::geometry::LANES;
         use crate::math::finite;
-        const PAD: usize = SPAN + LANES - 1;
-        let (mut dx, mut dy, mut dz) = ([0.0f32; PAD], [0.0f32; PAD], [0.0f32; PAD]);
         let (mut t, mut sp) = ([f32::INFINITY; PAD], [NONE; PAD]);
-        for (m, chunk) in dirs.chunks_mut(LANES).enumerate().take(SPAN / LANES) {
-            let m = m * LANES;
+        let len = ts.len().min(SPAN);
+        for m in (0..len).step_by(LANES) {
             // `view_ray(i, j, sx, sy, n)`: pixel column i at `i + ox`.
             let x = core::array::from_fn(|l| (i0 + (m + l) as u32) as f32 + ox);
             let [x, y, z] = self.camera.directions4(x, y);
-            for (l, d) in chunk.iter_mut().enumerate() {
-                *d = Vec3::new(x[l], y[l], z[l]);
-            }
             let lanes = m..m + LANES;
             if let (Some(a), Some(b), Some(c)) = (
                 dx.get_mut(lanes.clone()),
@@ -1123,7 +1149,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let lanes = |a: &[f32; PAD]| -> [f32; LANES] {
                     core::array::from_fn(|l| a.get(m + l).copied().unwrap_or(0.0))
                 };
-                let (x, y, z, tm) = (lanes(&dx), lanes(&dy), lanes(&dz), lanes(&t));
+                let (x, y, z, tm) = (lanes(dx), lanes(dy), lanes(dz), lanes(&t));
                 let h = k.hit_lanes(hb, x, y, z, T_EPS, tm);
                 // Lanes past the box's last column are not its to change.
                 let valid = if hi - m >= LANES {
@@ -1157,7 +1183,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             (*tt, *s) = (t[k], sp[k]);
         }
         if let Some((ps, os)) = points {
-            self.hit_points_lanes(ps, os, (&dx, &dy, &dz), &t, &sp);
+            self.hit_points_lanes(ps, os, (dx, dy, dz), &t, &sp);
         }
     }
 
@@ -1388,8 +1414,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                             }
                         } else if self.shadow_rays {
                             for slot in base..base + (i1 - i0) as usize {
-                                if let (Some((t, s)), Some(&dir)) =
-                                    (cull.hit(slot), cull.hit_d.get(slot))
+                                if let (Some((t, s)), Some(dir)) = (cull.hit(slot), cull.dir(slot))
                                 {
                                     let ray = Ray::new(self.camera.eye(), dir);
                                     if let Some((p, _)) = point(&ray, t, s as usize) {
@@ -1413,9 +1438,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                 }
                             }
                             // Only a hit is shaded with its ray.
-                            if let Some(d) = cull.hit_d.get_mut(slot) {
-                                *d = ray.dir;
-                            }
+                            cull.set_dir(slot, ray.dir);
                         }
                         let (t, s) = (cull.hit_t.get_mut(slot), cull.hit_s.get_mut(slot));
                         if let (Some(t), Some(s)) = (t, s) {
@@ -1577,6 +1600,9 @@ const DIRS: usize = if cfg!(all(target_arch = "arm", not(target_abi = "eabihf"))
 /// not traced twice (once for the span's bounds, once to shade): 2×2 where there is room, one on
 /// Arm, whose render stack (2 KiB on the firmware) has none for 54 more bytes a pixel.
 const KEPT: usize = if cfg!(target_arch = "arm") { 1 } else { 4 };
+/// `DIRS` and the lanes read past the last slot (`Cull::hit_dc`).
+#[cfg(lanes)]
+const DPAD: usize = DIRS + crate::geometry::LANES - 1;
 /// Whether a span traces its primary rays sphere by sphere (`Frame::trace_span`), which needs
 /// room for every pixel's view direction; on soft-float Arm, with none, pixel by pixel.
 const SPHERE_MAJOR: bool = DIRS >= SPAN;
@@ -1902,7 +1928,13 @@ struct Cull<const S: usize, const L: usize> {
     kept: bool,
     hit_t: [f32; SPAN * KEPT],
     hit_s: [u16; SPAN * KEPT],
+    #[cfg(not(lanes))]
     hit_d: [Vec3; DIRS],
+    /// On hosts, the directions by coordinate (x, y, z), padded to whole lanes past the last
+    /// slot: traced and shaded four columns at a time, a lane group is one load per
+    /// coordinate (`Vec3`s would be transposed both ways).
+    #[cfg(lanes)]
+    hit_dc: [[f32; DPAD]; 3],
     /// Where `culled`, each kept hit's point and offset from its sphere's centre, which the
     /// span's bounds take and shading reuses (see [`OFFS`]).
     hit_p: [Vec3; OFFS],
@@ -1934,7 +1966,10 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             // Zeros, which the compiler writes in place; a span writes them before use.
             hit_t: [0.0; SPAN * KEPT],
             hit_s: [0; SPAN * KEPT],
+            #[cfg(not(lanes))]
             hit_d: [Vec3::ZERO; DIRS],
+            #[cfg(lanes)]
+            hit_dc: [[0.0; DPAD]; 3],
             hit_p: [Vec3::ZERO; OFFS],
             hit_o: [Vec3::ZERO; OFFS],
             #[cfg(lanes)]
@@ -1951,6 +1986,33 @@ impl<const S: usize, const L: usize> Cull<S, L> {
         match (self.hit_t.get(k), self.hit_s.get(k)) {
             (Some(&t), Some(&s)) if s != NONE => Some((t, s)),
             _ => None,
+        }
+    }
+
+    /// The view direction kept in slot `k` (none where `DIRS` keeps none).
+    #[inline(always)]
+    fn dir(&self, k: usize) -> Option<Vec3> {
+        #[cfg(lanes)]
+        {
+            let [x, y, z] = &self.hit_dc;
+            Some(Vec3::new(*x.get(k)?, *y.get(k)?, *z.get(k)?))
+        }
+        #[cfg(not(lanes))]
+        self.hit_d.get(k).copied()
+    }
+
+    /// Keeps `d` as the view direction of slot `k`, where there is room.
+    #[inline(always)]
+    fn set_dir(&mut self, k: usize, d: Vec3) {
+        #[cfg(lanes)]
+        for (a, v) in self.hit_dc.iter_mut().zip([d.x, d.y, d.z]) {
+            if let Some(a) = a.get_mut(k) {
+                *a = v;
+            }
+        }
+        #[cfg(not(lanes))]
+        if let Some(a) = self.hit_d.get_mut(k) {
+            *a = d;
         }
     }
 
