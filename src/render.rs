@@ -1478,11 +1478,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 + reach * (1.0 / 1_048_576.0)
                 + f32::MIN_POSITIVE;
             let bounded = rho.is_finite() && q.is_finite();
-            for (li, range) in ranges.iter_mut().enumerate() {
+            // The scene's lights only: the ranges of light slots past them are never asked.
+            for (li, (range, light)) in ranges.iter_mut().zip(self.scene.lights()).enumerate() {
                 *range = ALL;
-                let Some(light) = self.scene.lights().get(li) else {
-                    continue;
-                };
                 if !bounded {
                     continue;
                 }
