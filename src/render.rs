@@ -420,8 +420,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// hit one sphere that is not a mirror ([`shade_lit4`](crate::shading)), into `cull.px`,
     /// marking them in `cull.done`: the pixels `next_pixel` would compute one by one, bit for
     /// bit (the hit records built lane by lane as `make_hit` builds them, the shadow tests the
-    /// scalar ones, asked for the same lanes and lights). Every other pixel is left to the
-    /// scalar path.
+    /// scalar ones, asked for the same lanes and lights). Misses are marked done too (`px`
+    /// starts as the background); every other pixel is left to the scalar path.
     #[cfg(lanes)]
     #[inline(never)]
     fn shade_span4(&self, cull: &mut Cull<S, L>) {
@@ -449,6 +449,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             ) else {
                 break;
             };
+            // Misses show the background, which `px` already holds: done, whatever the rest.
+            let none = (0..4).fold(0u32, |b, l| b | ((ss[l] == NONE) as u32) << l);
+            done |= none << k0;
             let s = ss[0];
             if s == NONE || ss.iter().any(|&x| x != s) {
                 continue;
@@ -1938,8 +1941,8 @@ struct Cull<const S: usize, const L: usize> {
     hit_p: [Vec3; OFFS],
     hit_o: [Vec3; OFFS],
     /// On hosts with f32 vectors (`cfg(lanes)`), the span's pixels that `Frame::shade_span4`
-    /// shaded four at a time (bit `k` for pixel `k`), and all the span's pixels once
-    /// `Frame::fill_span` has shaded the rest.
+    /// shaded four at a time or found to be misses (bit `k` for pixel `k`), and all the span's
+    /// pixels once `Frame::fill_span` has shaded the rest.
     #[cfg(lanes)]
     done: u32,
     #[cfg(lanes)]
