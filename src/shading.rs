@@ -326,7 +326,7 @@ pub(crate) fn shade_lit4<const S: usize, const L: usize>(
 /// [`in_shadow_among`] for the lanes `ask` of four hits on one sphere (`to` their
 /// [`to_light`] vectors): the bits of those in shadow. Each candidate is weighed for the four
 /// lanes at once as far as lanes decide it (`fused`'s steps lane by lane, and the point light's
-/// constants through [`Prepared::hit_lanes`]); the lanes that remain get the scalar test of
+/// constants through [`Prepared::hit4`]); the lanes that remain get the scalar test of
 /// that sphere, so every answer is the scalar one. Lanes that see their sphere from inside
 /// take the whole scalar test.
 #[cfg(lanes)]
@@ -341,7 +341,6 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
     candidates: &[u16],
 ) -> u32 {
     use crate::geometry::leaving_blocks4;
-    use crate::math::finite;
     use wide::CmpLt;
     let spheres = scene.spheres();
     let inside = bits(h.normal.dot(h.offset).cmp_lt(F::ZERO));
@@ -390,24 +389,9 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
                         c,
                         r: s.radius,
                     };
-                    let one = |l: usize| k.hit(d.lane(l), T_EPS, T_BELOW_ONE).is_some() as u32;
-                    if finite(c) {
-                        let hb = libm::fabsf(c) > k.r * k.r;
-                        let (x, y, z) = (d.x.to_array(), d.y.to_array(), d.z.to_array());
-                        let found = k.hit_lanes(hb, x, y, z, T_EPS, [T_BELOW_ONE; 4]);
-                        let mut hit = found.hit & !found.redo & open;
-                        let mut redo = found.redo & open;
-                        while redo != 0 {
-                            let l = redo.trailing_zeros() as usize;
-                            redo &= redo - 1;
-                            hit |= one(l) << l;
-                        }
-                        hit
-                    } else {
-                        (0..4)
-                            .filter(|&l| open & (1 << l) != 0)
-                            .fold(0, |m, l| m | one(l) << l)
-                    }
+                    let ds = core::array::from_fn(|l| d.lane(l));
+                    let hits = k.hit4(&ds, T_EPS, [T_BELOW_ONE; 4]);
+                    open & (0..4).fold(0, |m, l| m | (hits[l].is_some() as u32) << l)
                 }
                 _ => leaving(s, to, T_BELOW_ONE, open),
             },
