@@ -428,7 +428,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         use crate::math::lanes::{bits, F, V};
         use crate::shading::{in_shadow4, shade_lit4, Hits4};
         use wide::{CmpGt, CmpLe, CmpLt};
-        let len = ((cull.span_end - cull.span_start) as usize).min(SPAN);
+        let len = cull.span_len();
         let scene = self.scene;
         let eye = self.camera.eye();
         let lists = |s: usize| if cull.culled { cull.lists(s) } else { None };
@@ -778,11 +778,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             self.start_row(j, cull);
         }
         if i >= cull.span_end {
-            cull.span_start = i;
-            cull.span_end = (i + SPAN as u32).min(self.width());
-            self.gather(j, cull);
-            #[cfg(lanes)]
-            self.fill_span(j, cull);
+            self.start_span(j, i, cull);
         }
         #[cfg(lanes)]
         {
@@ -794,6 +790,17 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         self.span_pixel(j, i, cull)
     }
 
+    /// Starts the span of row `j` at column `i`: its candidates, hits and bounds
+    /// ([`Frame::gather`]), and on hosts all its pixels ([`Frame::fill_span`]).
+    #[inline(always)]
+    fn start_span(&self, j: u32, i: u32, cull: &mut Cull<S, L>) {
+        cull.span_start = i;
+        cull.span_end = (i + SPAN as u32).min(self.width());
+        self.gather(j, cull);
+        #[cfg(lanes)]
+        self.fill_span(j, cull);
+    }
+
     /// Every pixel of the span just gathered into `cull.px`: groups of four in lanes
     /// (`shade_span4`), the others one by one, so that the pixel loop only reads them.
     #[cfg(lanes)]
@@ -803,7 +810,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if cull.stored {
             self.shade_span4(cull);
         }
-        let len = ((cull.span_end - cull.span_start) as usize).min(SPAN);
+        let len = cull.span_len();
         let span = if len >= 32 { u32::MAX } else { (1 << len) - 1 };
         let mut rest = !cull.done & span;
         while rest != 0 {
@@ -924,10 +931,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 if m == 0 {
                     self.start_row(j, &mut cull);
                 }
-                cull.span_start = (m * SPAN) as u32;
-                cull.span_end = cull.span_start + out.len() as u32;
-                self.gather(j, &mut cull);
-                self.fill_span(j, &mut cull);
+                self.start_span(j, (m * SPAN) as u32, &mut cull);
                 for (o, &p) in out.iter_mut().zip(&cull.px) {
                     *o = p.into();
                 }
@@ -1988,6 +1992,13 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             (Some(&t), Some(&s)) if s != NONE => Some((t, s)),
             _ => None,
         }
+    }
+
+    /// Pixels in the current span (the lane paths').
+    #[cfg(lanes)]
+    #[inline(always)]
+    fn span_len(&self) -> usize {
+        ((self.span_end - self.span_start) as usize).min(SPAN)
     }
 
     /// The view direction kept in slot `k` (none where `DIRS` keeps none).
