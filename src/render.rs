@@ -1528,15 +1528,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                             consider(s);
                         }
                         let narrow = sweep.narrow();
-                        let first = narrow.partition_point(|e| e.0 < key - band);
+                        let first = narrow.partition_point(|e| e.key < key - band);
                         for e in narrow.get(first..).unwrap_or(&[]) {
-                            if e.0 > key + band {
+                            if e.key > key + band {
                                 break;
                             }
-                            if libm::fabsf(e.0 - key) <= e.1 + slack
-                                && libm::fabsf(e.3 - key2) <= e.1 + slack
+                            if libm::fabsf(e.key - key) <= e.half + slack
+                                && libm::fabsf(e.key2 - key2) <= e.half + slack
                             {
-                                consider(e.2);
+                                consider(e.sphere);
                             }
                         }
                     }
@@ -1666,19 +1666,41 @@ const ANGLE_MARGIN: f32 = 1e-4;
 /// apart and always tested.
 #[derive(Debug)]
 struct Sweep<const S: usize> {
-    /// The wide spheres first (`wide` of them, keys unused), then the rest as
-    /// `(key, half-width, sphere)` sorted by key.
-    entries: heapless::Vec<(f32, f32, u16, f32), S>,
+    /// The wide spheres first (`wide` of them, keys unused), then the rest sorted by key.
+    entries: heapless::Vec<Entry, S>,
     wide: usize,
     /// The largest half-width of the sorted ones.
     hw_max: f32,
     /// The key axis (unit).
     axis: Vec3,
     /// For a directional light, a second axis across it (unit, across `axis` too), whose
-    /// positions are each entry's last field: a sphere must be near the span in both, a tube
+    /// positions are each entry's `key2`: a sphere must be near the span in both, a tube
     /// along the light instead of a slab. Zero for point lights (their second key would cost
     /// an `atan2f` per span).
     axis2: Vec3,
+}
+
+/// One sphere in a [`Sweep`].
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    /// Its position along the sweep's axis (an angle for a point light).
+    key: f32,
+    /// The half-width of its padded cone (angle) or radius (length) along the key.
+    half: f32,
+    sphere: u16,
+    /// Its position along `Sweep::axis2` (zero for point lights).
+    key2: f32,
+}
+
+impl Entry {
+    fn new(key: f32, half: f32, sphere: usize, key2: f32) -> Self {
+        Entry {
+            key,
+            half,
+            sphere: sphere as u16,
+            key2,
+        }
+    }
 }
 
 impl<const S: usize> Sweep<S> {
@@ -1713,7 +1735,7 @@ impl<const S: usize> Sweep<S> {
             sweep.axis2 = direction.cross(axis).normalized().unwrap_or(Vec3::ZERO);
         }
         let axis2 = sweep.axis2;
-        let mut all: heapless::Vec<(f32, f32, u16, f32), S> = heapless::Vec::new();
+        let mut all: heapless::Vec<Entry, S> = heapless::Vec::new();
         for (s, sphere) in spheres.iter().enumerate() {
             let (m, r) = (sphere.center, sphere.radius);
             let l1 = |w: Vec3| libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z);
@@ -1724,47 +1746,48 @@ impl<const S: usize> Sweep<S> {
                     let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(w) + r);
                     let ww = w.dot(w);
                     if !(ww > big * big * 1.01) {
-                        (0.0, f32::INFINITY, s as u16, 0.0) // the light inside or near: wide
+                        // The light inside or near: wide.
+                        Entry::new(0.0, f32::INFINITY, s, 0.0)
                     } else {
                         let key = libm::atan2f(axis.cross(w).length(), axis.dot(w));
                         let hw = libm::atan2f(big, libm::sqrtf(ww - big * big));
-                        (key, hw, s as u16, 0.0)
+                        Entry::new(key, hw, s, 0.0)
                     }
                 }
                 Light::Directional { .. } => {
                     // `may_block` pads with 2η|m − q|₁ ≤ 2η(|m|₁ + |q|₁); the |q|₁ part and
                     // the rounding of keys (1e-5 of |m|₁, |q|₁) are added per span.
                     let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(m) + r) + 1e-5 * l1(m);
-                    (axis.dot(m), big, s as u16, axis2.dot(m))
+                    Entry::new(axis.dot(m), big, s, axis2.dot(m))
                 }
             };
             let _ = all.push(e);
         }
         // "Wide": more than 8 times the median half-width.
-        let mut hws: heapless::Vec<f32, S> = all.iter().map(|e| e.1).collect();
+        let mut hws: heapless::Vec<f32, S> = all.iter().map(|e| e.half).collect();
         hws.sort_unstable_by(|a, b| a.total_cmp(b));
         let median = hws.get(hws.len() / 2).copied().unwrap_or(0.0);
         let is_wide =
-            |e: &(f32, f32, u16, f32)| !(e.1 <= 8.0 * median && e.0.is_finite() && e.3.is_finite());
+            |e: &Entry| !(e.half <= 8.0 * median && e.key.is_finite() && e.key2.is_finite());
         for e in all.iter().filter(|e| is_wide(e)) {
             let _ = sweep.entries.push(*e);
         }
         sweep.wide = sweep.entries.len();
         for e in all.iter().filter(|e| !is_wide(e)) {
             let _ = sweep.entries.push(*e);
-            sweep.hw_max = sweep.hw_max.max(e.1);
+            sweep.hw_max = sweep.hw_max.max(e.half);
         }
         if let Some(narrow) = sweep.entries.get_mut(sweep.wide..) {
-            narrow.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+            narrow.sort_unstable_by(|a, b| a.key.total_cmp(&b.key));
         }
         sweep
     }
 
     fn wide(&self) -> impl Iterator<Item = &u16> {
-        self.entries.iter().take(self.wide).map(|e| &e.2)
+        self.entries.iter().take(self.wide).map(|e| &e.sphere)
     }
 
-    fn narrow(&self) -> &[(f32, f32, u16, f32)] {
+    fn narrow(&self) -> &[Entry] {
         self.entries.get(self.wide..).unwrap_or(&[])
     }
 
