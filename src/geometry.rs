@@ -925,12 +925,18 @@ pub(crate) fn hit_point_within(
     near2: f32,
 ) -> (Vec3, Vec3) {
     let d = ray.dir;
-    let r = sphere.radius;
-    let ff = f.dot(f);
-    if ff <= near2 * (r * r) {
+    if offset_is_near(f, sphere.radius, near2) {
         return (ray.at(t), f + d * t);
     }
     hit_point_far(d.x, d.y, d.z, t, f.x, f.y, f.z, sphere).unwrap_or((ray.at(t), f + d * t))
+}
+
+/// Whether [`hit_point_within`] keeps `f + t·d` for rays from `f` (origin − centre) to a sphere
+/// of `radius`: within `√near2` radii. The same for every ray from one origin, so the lane paths
+/// decide it once per sphere and frame.
+#[inline(always)]
+pub(crate) fn offset_is_near(f: Vec3, radius: f32, near2: f32) -> bool {
+    f.dot(f) <= near2 * (radius * radius)
 }
 
 /// [`hit_point`] from afar: the offset as `l ± s·d`, with `l = f − (b/a) d` the foot of the

@@ -258,8 +258,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         #[cfg(lanes)]
         let near = (eye.iter().zip(scene.spheres()).enumerate())
             .map(|(s, (k, sphere))| {
-                let r = sphere.radius;
-                k.f.dot(k.f) <= scene.near2(s) * (r * r)
+                crate::geometry::offset_is_near(k.f, sphere.radius, scene.near2(s))
             })
             .collect();
         Ok(Frame {
