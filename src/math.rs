@@ -495,6 +495,19 @@ pub(crate) mod lanes {
         mask.move_mask() as u32
     }
 
+    /// The indices of the set bits of `bits`, lowest first: the lanes (or span pixels) a mask
+    /// names, for the loops that visit them one by one.
+    #[inline(always)]
+    pub(crate) fn ones(mut bits: u32) -> impl Iterator<Item = usize> {
+        core::iter::from_fn(move || {
+            (bits != 0).then(|| {
+                let l = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                l
+            })
+        })
+    }
+
     /// A mask from bits `0..4`.
     #[inline(always)]
     pub(crate) fn mask(bits: u32) -> F {

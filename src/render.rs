@@ -811,10 +811,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         let len = cull.span_len();
         let span = if len >= 32 { u32::MAX } else { (1 << len) - 1 };
-        let mut rest = !cull.done & span;
-        while rest != 0 {
-            let k = rest.trailing_zeros() as usize;
-            rest &= rest - 1;
+        for k in crate::math::lanes::ones(!cull.done & span) {
             let c = self.span_pixel(j, cull.span_start + k as u32, cull);
             if let Some(p) = cull.px.get_mut(k) {
                 *p = c;

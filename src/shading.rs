@@ -229,7 +229,7 @@ pub(crate) struct Hits4 {
 }
 
 #[cfg(lanes)]
-use crate::math::lanes::{bits, mask, F, V};
+use crate::math::lanes::{bits, mask, ones, F, V};
 
 #[cfg(lanes)]
 impl Hits4 {
@@ -345,10 +345,7 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
     let spheres = scene.spheres();
     let inside = bits(h.normal.dot(h.offset).cmp_lt(F::ZERO));
     let mut out = 0;
-    let mut rest = ask & inside;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
+    for l in ones(ask & inside) {
         let cands = candidates.iter().map(|&j| j as usize);
         if in_shadow_among(scene, &h.hit(l), light, to.lane(l), &light_c, cands) {
             out |= 1 << l;
@@ -357,10 +354,8 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
     let mut open = ask & !inside;
     // `leaving_blocks` of the lanes in `open`: in lanes, the undecided ones scalar.
     let leaving = |s: &Sphere, d: &V, tmax: f32, open: u32| {
-        let (mut hit, mut maybe) = leaving_blocks4(h.anchor, h.rel, s, *d, tmax, open);
-        while maybe != 0 {
-            let l = maybe.trailing_zeros() as usize;
-            maybe &= maybe - 1;
+        let (mut hit, maybe) = leaving_blocks4(h.anchor, h.rel, s, *d, tmax, open);
+        for l in ones(maybe) {
             let (anchor, rel) = (h.anchor.lane(l), h.rel.lane(l));
             if Prepared::leaving_blocks(anchor, rel, s, d.lane(l), tmax) {
                 hit |= 1 << l;
