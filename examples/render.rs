@@ -9,7 +9,7 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -81,12 +81,15 @@ fn run(args: Args) -> Result<(), Failure> {
     };
 
     let start = Instant::now();
-    // On the stack, not boxed: `Box::new` copies the whole frame, its capacity included
-    // (0.56 MB at 1024 spheres and 32 lights), into fresh heap pages, which took 0.3-0.4 ms
-    // of a 15 ms render; only the parts a scene uses are ever written here.
-    let frame = Frame::new(&file.scene, &camera, options)
-        .map_err(|e| Failure(2, format!("--samples: {e}")))?;
-    let pixels = render_parallel(&frame, threads);
+    // On the stack and borrowed where it lies: `Box::new` or moving it out of the `Result`
+    // copies the whole frame, its capacity included (0.7 MB at 1024 spheres and 32 lights),
+    // into fresh pages, serial work before the threads start.
+    let made = Frame::new(&file.scene, &camera, options);
+    let frame = match &made {
+        Ok(frame) => frame,
+        Err(e) => return Err(Failure(2, format!("--samples: {e}"))),
+    };
+    let pixels = render_parallel(frame, threads);
     let ms = start.elapsed().as_secs_f64() * 1e3;
 
     write_png(&args.output, width, height, &pixels)?;
@@ -96,26 +99,43 @@ fn run(args: Args) -> Result<(), Failure> {
 }
 
 /// Renders bands of rows on `threads` threads through the library's band API, with a progress
-/// bar on a terminal once the render takes more than a second.
-fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize) -> Vec<Rgb888> {
+/// bar on a terminal once the render takes more than a second. Returns the bands in order.
+///
+/// Each band's pixels are allocated by the thread that renders it. One image-sized buffer
+/// filled before the threads start took ~1 ms here, most of it the kernel's first touch of
+/// 900 KB of fresh pages: serial, about a tenth of a two-thread render.
+fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize) -> Vec<Vec<Rgb888>> {
     let (w, h) = (frame.width() as usize, frame.height() as usize);
-    let mut pixels = vec![Rgb888::BLACK; w * h];
     // Bands of a few rows, handed out in order: short enough to balance uneven rows.
     let band_rows = 4;
-    let bands = Mutex::new(pixels.chunks_mut(w * band_rows).enumerate());
+    let count = h.div_ceil(band_rows);
+    let next = AtomicUsize::new(0);
+    let bands = Mutex::new(Vec::with_capacity(count));
     let done = AtomicU32::new(0);
     let finished = AtomicBool::new(false);
     let show = std::io::stderr().is_terminal();
     std::thread::scope(|s| {
-        let workers: Vec<_> = (0..threads.min(h.div_ceil(band_rows)))
+        let workers: Vec<_> = (0..threads.min(count))
             .map(|_| {
-                s.spawn(|| loop {
-                    let next = bands.lock().unwrap_or_else(|e| e.into_inner()).next();
-                    let Some((b, band)) = next else { break };
-                    // Every band holds whole rows inside the image, so this cannot fail.
-                    if let Ok(rows) = frame.render_rows((b * band_rows) as u32, band) {
-                        done.fetch_add(rows, Ordering::Relaxed);
+                s.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let b = next.fetch_add(1, Ordering::Relaxed);
+                        if b >= count {
+                            break;
+                        }
+                        let first = b * band_rows;
+                        let mut band = vec![Rgb888::BLACK; w * band_rows.min(h - first)];
+                        // Every band holds whole rows inside the image, so this cannot fail.
+                        if let Ok(rows) = frame.render_rows(first as u32, &mut band) {
+                            done.fetch_add(rows, Ordering::Relaxed);
+                        }
+                        mine.push((b, band));
                     }
+                    bands
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .append(&mut mine);
                 })
             })
             .collect();
@@ -130,7 +150,9 @@ fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize) -> Vec<Rgb888> {
             bar.thread().unpark();
         }
     });
-    pixels
+    let mut bands = bands.into_inner().unwrap_or_else(|e| e.into_inner());
+    bands.sort_unstable_by_key(|&(b, _)| b);
+    bands.into_iter().map(|(_, band)| band).collect()
 }
 
 fn progress(done: &AtomicU32, finished: &AtomicBool, total: u32) {
@@ -161,10 +183,10 @@ fn progress(done: &AtomicU32, finished: &AtomicBool, total: u32) {
 
 /// Writes to a temporary file beside `out`, then renames it: a failed write leaves no PNG and
 /// never touches an existing file.
-fn write_png(out: &Path, w: u32, h: u32, pixels: &[Rgb888]) -> Result<(), Failure> {
+fn write_png(out: &Path, w: u32, h: u32, bands: &[Vec<Rgb888>]) -> Result<(), Failure> {
     let io = |e: &dyn std::fmt::Display| Failure(1, format!("{}: {e}", out.display()));
     let mut pixmap = tiny_skia::Pixmap::new(w, h).ok_or_else(|| io(&"image too large"))?;
-    for (dst, p) in pixmap.pixels_mut().iter_mut().zip(pixels) {
+    for (dst, p) in pixmap.pixels_mut().iter_mut().zip(bands.iter().flatten()) {
         *dst = tiny_skia::PremultipliedColorU8::from_rgba(p.r(), p.g(), p.b(), 255)
             .expect("opaque colours are always valid");
     }
