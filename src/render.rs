@@ -1109,12 +1109,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         (i0, i1, ox, y): (u32, u32, f32, f32),
     ) {
         use crate::geometry::LANES;
-        use crate::math::finite;
+        use crate::math::{finite, lanes::F};
         let (mut t, mut sp) = ([f32::INFINITY; PAD], [NONE; PAD]);
         let len = ts.len().min(SPAN);
+        let lane = F::from(core::array::from_fn(|l| l as f32));
         for m in (0..len).step_by(LANES) {
-            // `view_ray(i, j, sx, sy, n)`: pixel column i at `i + ox`.
-            let x = core::array::from_fn(|l| (i0 + (m + l) as u32) as f32 + ox);
+            // `view_ray(i, j, sx, sy, n)`: pixel column i at `i + ox`. Columns (below
+            // `MAX_SIZE` + `LANES`) are exact in f32, so the lanes' `(i0 + m) + l` is each
+            // column converted, in one conversion instead of four.
+            let x = F::splat((i0 + m as u32) as f32) + lane;
+            let x = (x + F::splat(ox)).to_array();
             let [x, y, z] = self.camera.directions4(x, y);
             let lanes = m..m + LANES;
             if let (Some(a), Some(b), Some(c)) = (
