@@ -1673,10 +1673,12 @@ struct Sweep<const S: usize> {
     hw_max: f32,
     /// The key axis (unit).
     axis: Vec3,
-    /// For a directional light, a second axis across it (unit, across `axis` too), whose
-    /// positions are each entry's `key2`: a sphere must be near the span in both, a tube
-    /// along the light instead of a slab. Zero for point lights (their second key would cost
-    /// an `atan2f` per span).
+    /// A second axis (unit, across `axis`), whose coordinates are each entry's `key2`: a sphere
+    /// must be near the span in both keys, a tube along the light instead of a slab. For a
+    /// directional light the position along it; for a point light the component along it of
+    /// the unit direction from the light, which two directions at an angle θ differ in by at
+    /// most 2 sin(θ/2) ≤ θ, so the key's angular half-widths bound it too, without an
+    /// `atan2f` per span.
     axis2: Vec3,
 }
 
@@ -1688,7 +1690,7 @@ struct Entry {
     /// The half-width of its padded cone (angle) or radius (length) along the key.
     half: f32,
     sphere: u16,
-    /// Its position along `Sweep::axis2` (zero for point lights).
+    /// Its coordinate along `Sweep::axis2`.
     key2: f32,
 }
 
@@ -1732,9 +1734,14 @@ impl<const S: usize> Sweep<S> {
             return;
         };
         sweep.axis = axis;
-        if let Light::Directional { direction, .. } = *light {
-            sweep.axis2 = direction.cross(axis).normalized().unwrap_or(Vec3::ZERO);
+        sweep.axis2 = match *light {
+            // The camera's up vector, across its right one (`axis`): the third coordinate,
+            // which the keys leave out, is then along the view, where a scene's spheres
+            // seldom lie on both sides of a light.
+            Light::Point { .. } => (v - axis * v.dot(axis)).normalized(),
+            Light::Directional { direction, .. } => direction.cross(axis).normalized(),
         }
+        .unwrap_or(Vec3::ZERO);
         let axis2 = sweep.axis2;
         let mut all: heapless::Vec<Entry, S> = heapless::Vec::new();
         for (s, sphere) in spheres.iter().enumerate() {
@@ -1752,7 +1759,7 @@ impl<const S: usize> Sweep<S> {
                     } else {
                         let key = libm::atan2f(axis.cross(w).length(), axis.dot(w));
                         let hw = libm::atan2f(big, libm::sqrtf(ww - big * big));
-                        Entry::new(key, hw, s, 0.0)
+                        Entry::new(key, hw, s, axis2.dot(w) / libm::sqrtf(ww))
                     }
                 }
                 Light::Directional { .. } => {
@@ -1800,7 +1807,7 @@ impl<const S: usize> Sweep<S> {
             return None;
         }
         let l1 = libm::fabsf(q.x) + libm::fabsf(q.y) + libm::fabsf(q.z);
-        let (key, slack) = match *light {
+        let (key, slack, key2) = match *light {
             Light::Point { position, .. } => {
                 let v = q - position;
                 let vv = v.dot(v);
@@ -1811,15 +1818,16 @@ impl<const S: usize> Sweep<S> {
                 // The ball's half-angle seen from the light is atan of this, and atan x ≤ x:
                 // a wider band, never a narrower one, for one `atan2f` less per span.
                 let tan_theta = rho / libm::sqrtf(vv - rho * rho);
-                (key, tan_theta + ANGLE_MARGIN)
+                let key2 = self.axis2.dot(v) / libm::sqrtf(vv);
+                (key, tan_theta + ANGLE_MARGIN, key2)
             }
+            // The same bound holds along any unit axis across a directional light.
             Light::Directional { .. } => (
                 self.axis.dot(q),
                 rho + 2.0 * ETA * (l1 + rho) + rho + 1e-5 * l1,
+                self.axis2.dot(q),
             ),
         };
-        // The same bound holds along any unit axis across a directional light.
-        let key2 = self.axis2.dot(q);
         if !(key.is_finite() && slack.is_finite() && key2.is_finite()) {
             return None;
         }
