@@ -116,17 +116,17 @@ pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
 
 /// [`encode_channel`] with [`Encoding::Linear`] of four channel values in vector lanes: `255c +
 /// 0.5`, then the saturating cast's cases as selections (NaN and below 0 give 0, 256 and above
-/// 255) and a plain truncation of what is left, in `[0, 256)`: the same bytes.
+/// 255) and a plain truncation of what is left, in `[0, 256)`: the same bytes, as integer lanes.
 #[cfg(lanes)]
 #[inline(always)]
-fn linear_bytes(c: crate::math::lanes::F) -> [u8; 4] {
+fn linear_bytes(c: crate::math::lanes::F) -> wide::i32x4 {
     use crate::math::lanes::F;
     use wide::{CmpGe, CmpLt};
     let v = F::splat(255.0) * c + F::splat(0.5);
     let (zero, top, end) = (F::ZERO, F::splat(255.0), F::splat(256.0));
     let outside = v.cmp_ge(end).blend(top, zero);
     let v = (v.cmp_ge(zero) & v.cmp_lt(end)).blend(v, outside);
-    v.fast_trunc_int().to_array().map(|b| b as u8)
+    v.fast_trunc_int()
 }
 
 /// The sRGB transfer curve on [0, 1]. Out of line: one copy for the three channels.
@@ -703,8 +703,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if self.encoding != Encoding::Linear {
             return core::array::from_fn(|l| self.encode(c.lane(l)));
         }
+        // The three bytes of each pixel in one integer lane: one extraction a pixel, not three.
         let (r, g, b) = (linear_bytes(c.x), linear_bytes(c.y), linear_bytes(c.z));
-        core::array::from_fn(|l| Rgb888::new(r[l], g[l], b[l]))
+        let rgb: wide::i32x4 = r | (g << 8_i32) | (b << 16_i32);
+        let rgb = rgb.to_array();
+        rgb.map(|w| Rgb888::new(w as u8, (w >> 8) as u8, (w >> 16) as u8))
     }
 
     /// The encoded colour of pixel `(i, j)` (row 0 at the top).
