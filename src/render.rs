@@ -174,8 +174,9 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     encoding: Encoding,
     eye: heapless::Vec<Prepared, S>,
     boxes: heapless::Vec<PixelBox, S>,
-    /// Per point light with shadows, `c` of [`Prepared::exact`] from the light for every
-    /// sphere; the rest of those constants is rebuilt exactly when needed.
+    /// Per light, in scene order: for a point light with shadows, `c` of [`Prepared::exact`]
+    /// from the light for every sphere (the rest of those constants is rebuilt exactly when
+    /// needed); empty for the others.
     lights: [heapless::Vec<f32, S>; L],
     /// Per light, in scene order, when shadows are on and `SWEEPS`: its spheres sorted for
     /// the span culling.
@@ -1654,11 +1655,13 @@ fn group_of(groups: &[Group; GROUPS], sphere: usize) -> Option<usize> {
     rest
 }
 
-/// Angular margin of the sweep keys of point lights (radians): far above `atan2f`'s error.
+/// Angular margin of the sweep keys of point lights (radians): far above the rounding of
+/// `atan2f` and of the unit directions' components.
 const ANGLE_MARGIN: f32 = 1e-4;
 
-/// One light's spheres sorted by a 1-D key, so that a span finds its possible shadow blockers
-/// by a binary search instead of testing every sphere: for a point light, the angle between
+/// One light's spheres sorted by a key, so that a span finds its possible shadow blockers by a
+/// binary search instead of testing every sphere, and filtered by a second key (`axis2`): for
+/// a point light, the angle between
 /// a fixed axis and the direction from the light to the sphere, with the half-angle of the
 /// sphere's (padded) cone as half-width; for a directional light, the position along an axis
 /// across the light, with the padded radius as half-width. A sphere can block a shadow ray
