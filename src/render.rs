@@ -2247,9 +2247,10 @@ mod lane_tests {
         for c in xs.chunks(4) {
             let mut a = [0.0f32; 4];
             a[..c.len()].copy_from_slice(c);
-            let lanes = linear_bytes(crate::math::lanes::F::from(a));
+            let lanes = linear_bytes(crate::math::lanes::F::from(a)).to_array();
             for (l, &x) in a.iter().enumerate() {
-                assert_eq!(lanes[l], encode_channel(x, Encoding::Linear), "{x:e}");
+                let byte = i32::from(encode_channel(x, Encoding::Linear));
+                assert_eq!(lanes[l], byte, "{x:e}");
             }
         }
     }
