@@ -1288,6 +1288,67 @@ mod lane_tests {
         );
     }
 
+    /// Where `fused` computes the compensated `c` (an origin within √3 radii of the centre,
+    /// where f32 `c` cancels), the lanes must leave the answer to it: shadow rays that reach
+    /// the sphere near their `tmax`, from origins √2 … 2 radii from the centre, where `c`'s
+    /// rounding moves the near root by ~10 ulp. With the lanes keeping f32 `c` a little
+    /// further in (`CANCEL` 0.5 → 0.2, c > r²/2 instead of c > 2r²), 514 of the 42 247 lanes
+    /// within √3 radii answer differently: this fails then, while the random rays above pass.
+    #[test]
+    fn leaving_blocks4_leaves_cancelling_c_to_the_scalar_test() {
+        use crate::math::lanes::V;
+        let mut g = TestRng(0x9e37_79b9_7f4a_7c15);
+        let (mut scalar_zone, mut lanes) = (0u32, 0u32);
+        for case in 0..20_000u32 {
+            let r = libm::powf(10.0, -1.0 + 3.0 * g.unit());
+            let m = Vec3::new(g.unit() * 10.0, g.unit() * 10.0 - r, g.unit() * 10.0);
+            let s = Sphere::new(m, r);
+            let unit = |g: &mut TestRng| loop {
+                let v = Vec3::new(g.unit() - 0.5, g.unit() - 0.5, g.unit() - 0.5);
+                if let Some(u) = v.normalized() {
+                    break u;
+                }
+            };
+            // Each lane from √2 … 2 radii out towards a point of the near cap, so that its
+            // near root is 1 up to the rounding of `d`; `tmax` within ±16 ulp of 1.
+            let lane = |g: &mut TestRng| {
+                let u = unit(g);
+                let p = m + u * (r * (1.414 + 0.6 * g.unit()));
+                let aim = (u + unit(g) * 0.3).normalized().unwrap_or(u);
+                let target = m + aim * r;
+                (p, target - p)
+            };
+            let ls: [(Vec3, Vec3); 4] = core::array::from_fn(|_| lane(&mut g));
+            let tmax = 1.0 + (case % 33) as f32 * f32::EPSILON - 16.0 * f32::EPSILON;
+            let (hit, undecided) = leaving_blocks4(
+                V::from_lanes(ls.map(|l| l.0)),
+                V::splat(Vec3::ZERO),
+                &s,
+                V::from_lanes(ls.map(|l| l.1)),
+                tmax,
+                0b1111,
+            );
+            for (l, &(p, d)) in ls.iter().enumerate() {
+                let blocks = Prepared::leaving_blocks(p, Vec3::ZERO, &s, d, tmax);
+                let decided = undecided & (1 << l) == 0;
+                assert!(
+                    !decided || (hit & (1 << l) != 0) == blocks,
+                    "case {case} lane {l}: {s:?} from {p:?} along {d:?}, tmax {tmax}"
+                );
+                let f = p - m;
+                let cancels = (f.dot(f) - r * r) <= 2.0 * r * r;
+                scalar_zone += (cancels && !decided) as u32;
+                lanes += cancels as u32;
+            }
+        }
+        // The origins within √3 radii are the scalar test's (those beyond it the lanes').
+        assert!(
+            scalar_zone > lanes - lanes / 50,
+            "{scalar_zone} of {lanes} left to the scalar test"
+        );
+        assert!(lanes > 20_000, "{lanes} lanes within √3 radii");
+    }
+
     /// `hit_point_far4` is `hit_point_far` lane by lane, bit for bit: primary rays from one
     /// origin 30 … 10⁵ radii from spheres of radius 10⁻⁴ … 10², centres up to 10⁴ away from
     /// the origin of coordinates, hitting near the rim and the middle, both roots, and `t`
