@@ -6,6 +6,12 @@
         -semihosting-config enable=on,target=native -icount shift=0 -kernel $E \\
         -d in_asm,exec,nochain -D /dev/stderr 2>&1 >/dev/null | python3 tools/profile.py $E
 
+With `--lines [N]` after the ELF it prints the N (default 60) costliest source lines instead:
+each instruction is charged to the innermost inlined frame in microray's or the firmware's
+source (`llvm-addr2line -i`, or binutils' `addr2line` for a toolchain that knows Arm), with
+the line's text. Optimised code's line tables are approximate: a line is where to look, and
+`:0` is code the compiler made (spills, moves) that no line owns.
+
 QEMU logs each translated block once (`in_asm`: its instructions) and every execution of a block
 (`exec`, with `nochain` so that chained blocks are logged too); each execution is charged to the
 functions of the block's instructions. The figures cover the whole run (both render passes, the
@@ -19,6 +25,8 @@ import subprocess
 import sys
 
 elf = sys.argv[1]
+lines_mode = len(sys.argv) > 2 and sys.argv[2] == "--lines"
+top = int(sys.argv[3]) if lines_mode and len(sys.argv) > 3 else 60
 pixels = 2 * 320 * 240
 nm = next((c for c in ("llvm-nm", "arm-none-eabi-nm", "nm") if shutil.which(c)), None)
 syms = []
@@ -53,6 +61,46 @@ for line in sys.stdin:
         m = re.search(r"/([0-9a-f]{8})/", line)
         if m:
             runs[int(m.group(1), 16)] += 1
+if lines_mode:
+    per_address = collections.Counter()
+    for pc, n in runs.items():
+        for a in blocks.get(pc, [pc]):
+            per_address[a] += n
+    addresses = sorted(per_address)
+    tool = next((c for c in ("llvm-addr2line", "arm-none-eabi-addr2line", "addr2line")
+                 if shutil.which(c)), None)
+    out = subprocess.run([tool, "-f", "-i", "-a", "-e", elf] + [hex(a) for a in addresses],
+                         capture_output=True, text=True).stdout.splitlines()
+    # Per address: a line "0x…", then (function, file:line) pairs, innermost first.
+    per_line, chain, address = collections.Counter(), [], None
+
+    def charge():
+        if address is None:
+            return
+        places = chain[1::2]
+        own = [p for p in places if "/src/" in p and "/rustc/" not in p and "/.cargo/" not in p]
+        place = (own or places or ["?"])[0]
+        per_line[re.sub(r" \(discriminator \d+\)", "", place)] += per_address[address]
+
+    for line in out:
+        if re.match(r"0x[0-9a-f]+$", line):
+            charge()
+            address, chain = int(line, 16), []
+        else:
+            chain.append(line)
+    charge()
+    texts = {}
+    for place, n in per_line.most_common(top):
+        path, _, number = place.rpartition(":")
+        text = ""
+        if number.isdigit():
+            try:
+                text = texts.setdefault(path, open(path).read().split("\n"))[int(number) - 1]
+            except (OSError, IndexError):
+                pass
+        short = re.sub(r"^.*?/(src|examples)/", r"\1/", place)
+        print(f"{n / pixels:7.1f}/px  {short:40s} {text.strip()[:70]}")
+    sys.exit(0)
 per_function, total = collections.Counter(), 0
 for pc, n in runs.items():
     for a in blocks.get(pc, [pc]):
