@@ -198,6 +198,25 @@ fn accelerated_equals_brute_force_on_scene_files() {
     same(&demo.scene, &camera, demo.options);
 }
 
+/// Many spheres: the benchmark's scenes of 256 small spheres on a grid in front of a wall
+/// (`bench/scenes/spread256_*.toml`, written by `bench/spread_scenes.py`), where the sweeps
+/// hold long sorted lists and both keys cut the candidates (the random scenes have up to 40
+/// spheres), at a quarter of their pixels. It fails when a sweep's search band is halved.
+/// (Shifting a point light's second keys by half their half-widths passes here, whose
+/// spans' slack covers it; the random scenes catch that.)
+#[test]
+fn accelerated_equals_brute_force_with_256_spheres() {
+    const W: u32 = 320;
+    const H: u32 = 240;
+    for kind in ["shadowed", "shaded", "primary"] {
+        let file: Box<Desktop> =
+            Box::new(scene_file::load(format!("bench/scenes/spread256_{kind}.toml")).unwrap());
+        assert_eq!(file.scene.spheres().len(), 257);
+        let camera = file.view.camera(W, H).unwrap();
+        same(&file.scene, &camera, file.options);
+    }
+}
+
 /// The comparison can fail: the frame of a slightly different scene is told apart.
 #[test]
 fn a_different_scene_is_detected() {
