@@ -538,7 +538,8 @@ pub(crate) mod lanes {
                 z: F::splat(v.z),
             }
         }
-        #[inline(always)]
+        /// Four points in lanes (the lane tests build their rays this way).
+        #[cfg(test)]
         pub(crate) fn from_lanes(v: [Vec3; 4]) -> V {
             V {
                 x: F::from(v.map(|v| v.x)),
