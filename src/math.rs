@@ -538,8 +538,7 @@ pub(crate) mod lanes {
                 z: F::splat(v.z),
             }
         }
-        /// Four points in lanes (the lane tests build their rays this way).
-        #[cfg(test)]
+        #[inline(always)]
         pub(crate) fn from_lanes(v: [Vec3; 4]) -> V {
             V {
                 x: F::from(v.map(|v| v.x)),

@@ -402,7 +402,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     fn kept_hit(&self, ray: &Ray, t: f32, s: usize, slot: usize, cull: &Cull<S, L>) -> Option<Hit> {
         let (k, sphere) = (self.eye.get(s)?, self.scene.spheres().get(s)?);
         let offset = match cull.hit_o.get(slot) {
-            Some(offset) if cull.culled => offset,
+            Some(&offset) if cull.culled => offset,
             _ => hit_point_within(ray, t, k.f, sphere, self.scene.near2(s)).1,
         };
         Some(hit_from_offset(
@@ -475,8 +475,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let offset = if self.offset_near(si) {
                 V::splat(k.f).add(dir.mul(t))
             } else {
-                match cull.hit_o.get4(k0) {
-                    Some(o) if cull.culled => o,
+                match cull.hit_o.get(k0..k0 + 4) {
+                    Some(o) if cull.culled => V::from_lanes([o[0], o[1], o[2], o[3]]),
                     _ => match crate::geometry::hit_point_far4(dir, t, k.f, sphere) {
                         Some((_, o)) => o,
                         None => continue,
@@ -1025,13 +1025,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             fn lanes<const N: usize>(a: &mut [f32; DPAD], base: usize) -> Option<&mut [f32; N]> {
                 a.get_mut(base..base + N)?.try_into().ok()
             }
-            let (Some(ts), Some(ss)) = (
+            let (Some(ts), Some(ss), Some(ps), Some(os)) = (
                 cull.hit_t.get_mut(base..base + len),
                 cull.hit_s.get_mut(base..base + len),
+                cull.hit_p.get_mut(base..base + len),
+                cull.hit_o.get_mut(base..base + len),
             ) else {
                 return;
             };
-            let (ps, os) = (&mut cull.hit_p, &mut cull.hit_o);
             let (Some(dx), Some(dy), Some(dz)) = (
                 lanes::<PAD>(dx, base),
                 lanes::<PAD>(dy, base),
@@ -1039,7 +1040,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             ) else {
                 return;
             };
-            let points = self.shadow_rays.then_some((ps, os, base));
+            let points = self.shadow_rays.then_some((ps, os));
             self.trace_lanes([dx, dy, dz], ts, ss, points, &cull.span, (i0, i1, ox, y));
         }
         #[cfg(not(lanes))]
@@ -1107,7 +1108,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         [dx, dy, dz]: [&mut [f32; PAD]; 3],
         ts: &mut [f32],
         ss: &mut [u16],
-        points: Option<(&mut Points<OFFS>, &mut Points<OFFS>, usize)>,
+        points: Option<(&mut [Vec3], &mut [Vec3])>,
         span: &[u16],
         (i0, i1, ox, y): (u32, u32, f32, f32),
     ) {
@@ -1192,21 +1193,21 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         for (k, (tt, s)) in ts.iter_mut().zip(ss.iter_mut()).enumerate().take(SPAN) {
             (*tt, *s) = (t[k], sp[k]);
         }
-        if let Some((ps, os, base)) = points {
-            self.hit_points_lanes((ps, os, base, len), (dx, dy, dz), &t, &sp);
+        if let Some((ps, os)) = points {
+            self.hit_points_lanes(ps, os, (dx, dy, dz), &t, &sp);
         }
     }
 
     /// `hit_point_within` of every hit of a span (its point and offset, as `make_hit` and the
-    /// span's bounds compute them) into slots `base..base + len` of `ps` and `os`: four at a
-    /// time where four neighbouring
+    /// span's bounds compute them) into `ps` and `os`: four at a time where four neighbouring
     /// columns hit one sphere on `f + t·d`'s side of `near2` (the same operations lane by lane,
     /// so the same bits), else one by one.
     #[cfg(lanes)]
     #[inline(always)]
     fn hit_points_lanes<const PAD: usize>(
         &self,
-        (ps, os, base, len): (&mut Points<OFFS>, &mut Points<OFFS>, usize, usize),
+        ps: &mut [Vec3],
+        os: &mut [Vec3],
         (dx, dy, dz): (&[f32; PAD], &[f32; PAD], &[f32; PAD]),
         t: &[f32; PAD],
         sp: &[u16; PAD],
@@ -1215,15 +1216,19 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         use wide::f32x4 as F;
         let eye = self.camera.eye();
         let spheres = self.scene.spheres();
-        let one = |m: usize, ps: &mut Points<OFFS>, os: &mut Points<OFFS>| {
+        let one = |m: usize, ps: &mut [Vec3], os: &mut [Vec3]| {
             let s = sp[m] as usize;
-            if let (Some(k), Some(sphere)) = (self.eye.get(s), spheres.get(s)) {
+            if let (Some(k), Some(sphere), Some(p), Some(o)) = (
+                self.eye.get(s),
+                spheres.get(s),
+                ps.get_mut(m),
+                os.get_mut(m),
+            ) {
                 let ray = Ray::new(eye, Vec3::new(dx[m], dy[m], dz[m]));
-                let (p, o) = hit_point_within(&ray, t[m], k.f, sphere, self.scene.near2(s));
-                ps.set(base + m, p);
-                os.set(base + m, o);
+                (*p, *o) = hit_point_within(&ray, t[m], k.f, sphere, self.scene.near2(s));
             }
         };
+        let len = ps.len().min(os.len());
         let mut m = 0;
         while m < len {
             let s = sp[m];
@@ -1242,8 +1247,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         z: lanes(dz),
                     };
                     if let Some((p, o)) = hit_point_far4(d, lanes(t), k.f, sphere) {
-                        ps.set4(base + m, &p);
-                        os.set4(base + m, &o);
+                        for l in 0..LANES {
+                            if let (Some(pp), Some(oo)) = (ps.get_mut(m + l), os.get_mut(m + l)) {
+                                (*pp, *oo) = (p.lane(l), o.lane(l));
+                            }
+                        }
                         m += LANES;
                         continue;
                     }
@@ -1277,23 +1285,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 F::splat(k.f.y) + y * tt,
                 F::splat(k.f.z) + z * tt,
             );
-            use crate::math::lanes::V;
-            ps.set4(
-                base + m,
-                &V {
-                    x: px,
-                    y: py,
-                    z: pz,
-                },
-            );
-            os.set4(
-                base + m,
-                &V {
-                    x: ox,
-                    y: oy,
-                    z: oz,
-                },
-            );
+            let (px, py, pz) = (px.to_array(), py.to_array(), pz.to_array());
+            let (ox, oy, oz) = (ox.to_array(), oy.to_array(), oz.to_array());
+            for l in 0..LANES {
+                if let (Some(p), Some(o)) = (ps.get_mut(m + l), os.get_mut(m + l)) {
+                    *p = Vec3::new(px[l], py[l], pz[l]);
+                    *o = Vec3::new(ox[l], oy[l], oz[l]);
+                }
+            }
             m += LANES;
         }
     }
@@ -1407,9 +1406,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                 let four = (slot + 4 <= end)
                                     .then(|| {
                                         let s = cull.hit_s.get(slot..slot + 4)?;
+                                        let p = cull.hit_p.get(slot..slot + 4)?;
                                         let same = s[0] != NONE && s.iter().all(|&x| x == s[0]);
-                                        let p = |l| cull.hit_p.get(slot + l);
-                                        let p = [p(0)?, p(1)?, p(2)?, p(3)?];
                                         same.then(|| (s[0], box4(p)))
                                     })
                                     .flatten();
@@ -1418,7 +1416,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                     slot += 4;
                                     continue;
                                 }
-                                if let (Some((_, s)), Some(p)) =
+                                if let (Some((_, s)), Some(&p)) =
                                     (cull.hit(slot), cull.hit_p.get(slot))
                                 {
                                     extend(s as usize, (p, p));
@@ -1579,7 +1577,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
 /// The box of four points (a coordinate that is NaN skipped, as `Frame::gather`'s bounds skip
 /// it): selections in registers, one group update for four neighbouring hits instead of four.
 #[inline(always)]
-fn box4(p: [Vec3; 4]) -> (Vec3, Vec3) {
+fn box4(p: &[Vec3]) -> (Vec3, Vec3) {
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
     for q in p {
         for (k, v) in [q.x, q.y, q.z].into_iter().enumerate() {
@@ -1590,52 +1588,6 @@ fn box4(p: [Vec3; 4]) -> (Vec3, Vec3) {
         }
     }
     (Vec3::from(lo), Vec3::from(hi))
-}
-
-/// Points kept by coordinate (x, y, z), one slot each: lane groups load and store them whole,
-/// where `Vec3`s were transposed both ways.
-#[derive(Debug, Clone, Copy)]
-struct Points<const N: usize>([[f32; N]; 3]);
-
-impl<const N: usize> Points<N> {
-    fn get(&self, k: usize) -> Option<Vec3> {
-        let [x, y, z] = &self.0;
-        Some(Vec3::new(*x.get(k)?, *y.get(k)?, *z.get(k)?))
-    }
-
-    fn set(&mut self, k: usize, v: Vec3) {
-        let [x, y, z] = &mut self.0;
-        if let (Some(x), Some(y), Some(z)) = (x.get_mut(k), y.get_mut(k), z.get_mut(k)) {
-            (*x, *y, *z) = (v.x, v.y, v.z);
-        }
-    }
-
-    /// Slots `k..k + 4` in lanes.
-    #[cfg(lanes)]
-    fn get4(&self, k: usize) -> Option<crate::math::lanes::V> {
-        use crate::math::lanes::F;
-        let lanes = |a: &[f32; N]| -> Option<F> {
-            let a: [f32; 4] = a.get(k..k + 4)?.try_into().ok()?;
-            Some(F::from(a))
-        };
-        let [x, y, z] = &self.0;
-        Some(crate::math::lanes::V {
-            x: lanes(x)?,
-            y: lanes(y)?,
-            z: lanes(z)?,
-        })
-    }
-
-    /// Slots `k..k + 4` from lanes.
-    #[cfg(lanes)]
-    fn set4(&mut self, k: usize, v: &crate::math::lanes::V) {
-        let [x, y, z] = &mut self.0;
-        for (a, c) in [(x, v.x), (y, v.y), (z, v.z)] {
-            if let Some(a) = a.get_mut(k..k + 4) {
-                a.copy_from_slice(&c.to_array());
-            }
-        }
-    }
 }
 
 /// Hit groups per span: hits on up to `GROUPS − 1` spheres get their own bound, the rest share
@@ -2027,8 +1979,8 @@ struct Cull<const S: usize, const L: usize> {
     hit_dc: [[f32; DPAD]; 3],
     /// Where `culled`, each kept hit's point and offset from its sphere's centre, which the
     /// span's bounds take and shading reuses (see [`OFFS`]).
-    hit_p: Points<OFFS>,
-    hit_o: Points<OFFS>,
+    hit_p: [Vec3; OFFS],
+    hit_o: [Vec3; OFFS],
     /// On hosts with f32 vectors (`cfg(lanes)`), the span's pixels that `Frame::shade_span4`
     /// shaded four at a time or found to be misses (bit `k` for pixel `k`), and all the span's
     /// pixels once `Frame::fill_span` has shaded the rest.
@@ -2060,8 +2012,8 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             hit_d: [Vec3::ZERO; DIRS],
             #[cfg(lanes)]
             hit_dc: [[0.0; DPAD]; 3],
-            hit_p: Points([[0.0; OFFS]; 3]),
-            hit_o: Points([[0.0; OFFS]; 3]),
+            hit_p: [Vec3::ZERO; OFFS],
+            hit_o: [Vec3::ZERO; OFFS],
             #[cfg(lanes)]
             done: 0,
             #[cfg(lanes)]
