@@ -1724,7 +1724,6 @@ impl<const S: usize> Sweep<S> {
 
     /// Sorts `spheres` for `light` into this sweep, which must be empty.
     fn fill(&mut self, light: &Light, spheres: &[crate::Sphere], u: Vec3, v: Vec3) {
-        let sweep = self;
         let axis = match *light {
             Light::Point { .. } => Some(u),
             Light::Directional { direction, .. } => {
@@ -1739,8 +1738,8 @@ impl<const S: usize> Sweep<S> {
         let Some(axis) = axis else {
             return;
         };
-        sweep.axis = axis;
-        sweep.axis2 = match *light {
+        self.axis = axis;
+        self.axis2 = match *light {
             // The camera's up vector, across its right one (`axis`): the third coordinate,
             // which the keys leave out, is then along the view, where a scene's spheres
             // seldom lie on both sides of a light.
@@ -1748,7 +1747,7 @@ impl<const S: usize> Sweep<S> {
             Light::Directional { direction, .. } => direction.cross(axis).normalized(),
         }
         .unwrap_or(Vec3::ZERO);
-        let axis2 = sweep.axis2;
+        let axis2 = self.axis2;
         let mut all: heapless::Vec<Entry, S> = heapless::Vec::new();
         for (s, sphere) in spheres.iter().enumerate() {
             let (m, r) = (sphere.center, sphere.radius);
@@ -1784,14 +1783,14 @@ impl<const S: usize> Sweep<S> {
         let is_wide =
             |e: &Entry| !(e.half <= 8.0 * median && e.key.is_finite() && e.key2.is_finite());
         for e in all.iter().filter(|e| is_wide(e)) {
-            let _ = sweep.entries.push(*e);
+            let _ = self.entries.push(*e);
         }
-        sweep.wide = sweep.entries.len();
+        self.wide = self.entries.len();
         for e in all.iter().filter(|e| !is_wide(e)) {
-            let _ = sweep.entries.push(*e);
-            sweep.hw_max = sweep.hw_max.max(e.half);
+            let _ = self.entries.push(*e);
+            self.hw_max = self.hw_max.max(e.half);
         }
-        if let Some(narrow) = sweep.entries.get_mut(sweep.wide..) {
+        if let Some(narrow) = self.entries.get_mut(self.wide..) {
             narrow.sort_unstable_by(|a, b| a.key.total_cmp(&b.key));
         }
     }
