@@ -618,10 +618,11 @@ pub(crate) fn leaving_blocks4(
         return (0, 0);
     }
     // `fused` keeps c where `|c| > sum·CANCEL` and c is finite; `hit_ab` then takes Hearn–Baker's
-    // discriminant where |c| > r² (all such lanes with c > 0, since c > 2r² there).
+    // discriminant where |c| > r², which every kept lane with c > 0 has: c > sum/2 means
+    // |f|² > ~3r², so c > ~2r² whatever the rounding of c and sum.
     let cabs = c.abs();
     let keeps = cabs.cmp_gt(sum * F::splat(CANCEL)) & cabs.cmp_le(F::splat(f32::MAX));
-    let kept = maybe & bits(keeps & c.cmp_gt(F::ZERO) & cabs.cmp_gt(rr));
+    let kept = maybe & bits(keeps & c.cmp_gt(F::ZERO));
     if kept == 0 {
         return (0, maybe);
     }
