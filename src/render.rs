@@ -600,7 +600,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
 
     /// [`in_shadow_among`] of light `i` at `hit` over `cands`, with the light's per-frame
     /// constants.
-    #[inline(always)]
+    ///
+    /// Out of line on Cortex-M: most calls return before it (no candidate), and inlined into
+    /// the shading loop its registers made that loop keep more of its values on the stack
+    /// (M4F: 587.6 → 581.5 instructions a pixel; "s": 696.6 → 686.3).
+    #[cfg_attr(lanes, inline(always))]
+    #[cfg_attr(not(lanes), inline(never))]
     fn shadow_test(&self, hit: &Hit, cands: &[u16], i: usize, light: &Light, v: Vec3) -> bool {
         let cs = self.light_consts(i, light);
         let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
