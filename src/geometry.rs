@@ -502,6 +502,26 @@ impl Prepared {
         let (f, c, r) = (self.f, self.c, self.r);
         hit_ab_xyz(f.x, f.y, f.z, c, r, d.x, d.y, d.z, a, b, tmin, tmax)
     }
+
+    /// [`Prepared::hit`] for constants of an origin outside the sphere (`c > 0`, finite) and
+    /// `tmin ≥ 0`, as the eye's are for most spheres: the same result, bit for bit, without
+    /// the tests that this condition decides (the sign of `c`, its overflow, `q`'s sign and
+    /// zero). For primary rays on Cortex-M, where every test is scalar: the caller checks the
+    /// condition once per sphere, not per ray.
+    #[cfg(any(test, not(lanes)))]
+    #[inline(always)]
+    pub(crate) fn hit_outside(&self, d: Vec3, tmin: f32, tmax: f32) -> Option<f32> {
+        let (f, c, r) = (self.f, self.c, self.r);
+        let (a, b) = (d.dot(d), f.dot(d));
+        hit_ab_of::<true>(f.x, f.y, f.z, c, r, d.x, d.y, d.z, a, b, tmin, tmax)
+    }
+
+    /// Whether [`Prepared::hit_outside`] applies to these constants.
+    #[cfg(any(test, not(lanes)))]
+    #[inline(always)]
+    pub(crate) fn outside(&self) -> bool {
+        self.c > 0.0 && finite(self.c)
+    }
 }
 
 /// [`Prepared::hit_ab`] on scalars: where it is not inlined (the shadow loops), a `Prepared` or
@@ -509,6 +529,27 @@ impl Prepared {
 #[inline]
 #[allow(clippy::too_many_arguments)]
 fn hit_ab_xyz(
+    fx: f32,
+    fy: f32,
+    fz: f32,
+    c: f32,
+    r: f32,
+    dx: f32,
+    dy: f32,
+    dz: f32,
+    a: f32,
+    b: f32,
+    tmin: f32,
+    tmax: f32,
+) -> Option<f32> {
+    hit_ab_of::<false>(fx, fy, fz, c, r, dx, dy, dz, a, b, tmin, tmax)
+}
+
+/// [`hit_ab_xyz`]; with `OUTSIDE`, for `c > 0` finite and `tmin ≥ 0` (see
+/// [`Prepared::hit_outside`]).
+#[inline]
+#[allow(clippy::too_many_arguments)]
+fn hit_ab_of<const OUTSIDE: bool>(
     fx: f32,
     fy: f32,
     fz: f32,
@@ -534,7 +575,7 @@ fn hit_ab_xyz(
         return None;
     }
     // Outside (c > 0) and heading away (b ≥ 0): both roots are negative.
-    if c > 0.0 && b >= 0.0 && tmin >= 0.0 {
+    if (OUTSIDE || c > 0.0) && b >= 0.0 && tmin >= 0.0 {
         return None;
     }
     let rr = r * r;
@@ -544,7 +585,7 @@ fn hit_ab_xyz(
         let l = f - d * (b / a);
         a * (rr - l.dot(l))
     };
-    if !((0.0..=f32::MAX).contains(&disc) && finite(c)) {
+    if !((0.0..=f32::MAX).contains(&disc) && (OUTSIDE || finite(c))) {
         // Overflow shows as ±∞ or NaN somewhere on the way to disc (or in c).
         if disc < 0.0 && finite(disc) {
             return None;
@@ -552,14 +593,19 @@ fn hit_ab_xyz(
         return select(roots_scaled(f.x, f.y, f.z, d.x, d.y, d.z, r)?, tmin, tmax);
     }
     let s = sqrt(disc);
-    let q = if b > 0.0 { -(b + s) } else { s - b };
-    if q == 0.0 {
+    // With `OUTSIDE`, b < 0 here (b ≥ 0 left above; a NaN b made disc NaN): q = s − b > 0.
+    let q = if !OUTSIDE && b > 0.0 { -(b + s) } else { s - b };
+    if !OUTSIDE && q == 0.0 {
         return select((0.0, 0.0), tmin, tmax);
     }
-    let t0 = near_root(a, b, c, q, s);
+    let t0 = if OUTSIDE {
+        near_root_outside(a, b, c, q, s)
+    } else {
+        near_root(a, b, c, q, s)
+    };
     // With q > 0 and c > 0, c/q is the near root (c/q ≤ q/a since q² ≥ b² ≥ ac): when it is
     // in range the far root's divide is not needed.
-    if q > 0.0 && c > 0.0 && t0 >= tmin && t0 <= tmax && t0 < f32::INFINITY {
+    if (OUTSIDE || (q > 0.0 && c > 0.0)) && t0 >= tmin && t0 <= tmax && t0 < f32::INFINITY {
         return Some(t0);
     }
     let t1 = q / a;
@@ -809,6 +855,16 @@ impl Prepared {
 #[inline]
 fn near_root(a: f32, b: f32, c: f32, q: f32, s: f32) -> f32 {
     if c > 0.0 && b < 0.0 && s < -0.5 * b {
+        (-b - s) / a
+    } else {
+        c / q
+    }
+}
+
+/// [`near_root`] where `c > 0` and `b < 0` are known.
+#[inline(always)]
+fn near_root_outside(a: f32, b: f32, c: f32, q: f32, s: f32) -> f32 {
+    if s < -0.5 * b {
         (-b - s) / a
     } else {
         c / q
@@ -1181,6 +1237,65 @@ mod lane_tests {
         assert!(
             ordinary_redos < lanes / 1000,
             "{ordinary_redos} of {lanes} lanes redone"
+        );
+    }
+
+    /// `hit_outside` is `hit`, bit for bit, for constants of an origin outside the sphere
+    /// (`c > 0`) and `tmin ≥ 0`: near the surface and far, both discriminants, tangents, huge
+    /// and zero directions (overflow and the scaled roots), `tmax` at the root itself.
+    #[test]
+    fn hit_outside_is_hit() {
+        let mut g = TestRng(0x5851_f42d_4c95_7f2d);
+        let (mut tested, mut hits, mut near, mut far_roots) = (0u32, 0u32, 0u32, 0u32);
+        for case in 0..200_000u32 {
+            let r = g.mag(-4, 5).abs();
+            let m = g.decades(-4, 5);
+            let origin = match case % 3 {
+                0 => m + Vec3::new(r, 0.0, 0.0) * (1.0 + 0.01 * g.unit()),
+                1 => m + g.decades(-5, 2),
+                _ => g.decades(-4, 6),
+            };
+            let k = Prepared::exact(origin, &Sphere::new(m, r));
+            if !k.outside() {
+                continue;
+            }
+            near += (k.c <= k.r * k.r) as u32;
+            let aim = m - origin;
+            let d = match case % 5 {
+                0 => Vec3::ZERO,
+                1 => aim,
+                2 => {
+                    let (dd, u) = (aim.length(), aim.cross(Vec3::new(0.3, 1.0, 0.1)));
+                    let side = libm::sqrtf(libm::fabsf(dd * dd - r * r)) / dd;
+                    let off = 1.0 + libm::powf(10.0, -4.0 - 3.0 * g.unit()) * (g.unit() - 0.5);
+                    aim * side + u.normalized().unwrap_or(Vec3::ZERO) * (r * off)
+                }
+                3 if case % 50 == 3 => g.decades(15, 20),
+                _ => aim + g.decades(-6, 1) * aim.length(),
+            };
+            let tmin = [0.0, f32::MIN_POSITIVE, 1e-3][(case / 3) as usize % 3];
+            let root = k.hit(d, tmin, f32::INFINITY);
+            let tmax = match case / 5 % 4 {
+                0 => f32::INFINITY,
+                1 => root.unwrap_or(1.0),
+                // below the near root: only the far one (or none) can answer
+                2 => root.map_or(1.0, |t| t * 0.999),
+                _ => g.mag(-3, 4).abs(),
+            };
+            let scalar = k.hit(d, tmin, tmax);
+            assert_eq!(
+                k.hit_outside(d, tmin, tmax).map(f32::to_bits),
+                scalar.map(f32::to_bits),
+                "case {case}: {k:?} d {d:?} tmin {tmin} tmax {tmax}"
+            );
+            tested += 1;
+            hits += scalar.is_some() as u32;
+            far_roots += (scalar.is_some() && k.hit(d, 0.0, f32::INFINITY) != scalar) as u32;
+        }
+        // Hits, far roots and both discriminants are reached.
+        assert!(
+            tested > 100_000 && hits > tested / 10 && far_roots > 0 && near > 1000,
+            "{tested} {hits} {far_roots} {near}"
         );
     }
 

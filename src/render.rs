@@ -601,9 +601,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// [`in_shadow_among`] of light `i` at `hit` over `cands`, with the light's per-frame
     /// constants.
     ///
-    /// Out of line on Cortex-M: most calls return before it (no candidate), and inlined into
-    /// the shading loop its registers made that loop keep more of its values on the stack
-    /// (M4F: 587.6 → 581.5 instructions a pixel; "s": 696.6 → 686.3).
+    /// Out of line on Cortex-M: `blocked` returns before it for most pixels (no candidate), and
+    /// inlined into the shading loop its registers made that loop keep more of its values on
+    /// the stack (M4F: 587.6 → 581.5 instructions a pixel; "s": 696.6 → 686.3).
     #[cfg_attr(lanes, inline(always))]
     #[cfg_attr(not(lanes), inline(never))]
     fn shadow_test(&self, hit: &Hit, cands: &[u16], i: usize, light: &Light, v: Vec3) -> bool {
@@ -1091,8 +1091,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             ) else {
                 continue;
             };
+            // The eye outside the sphere, as for most: decided once per box, not per ray.
+            let outside = k.outside();
             for ((d, t), s) in dirs.iter().zip(ts.iter_mut()).zip(ss.iter_mut()) {
-                if let Some(hit) = k.hit(*d, T_EPS, *t) {
+                let hit = if outside {
+                    k.hit_outside(*d, T_EPS, *t)
+                } else {
+                    k.hit(*d, T_EPS, *t)
+                };
+                if let Some(hit) = hit {
                     *t = hit;
                     *s = sphere;
                 }
