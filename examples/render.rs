@@ -111,9 +111,11 @@ fn run(args: Args) -> Result<(), Failure> {
 /// Renders `image` in bands of rows on `threads` threads through the library's band API, with a
 /// progress bar on a terminal once the render takes more than a second.
 ///
-/// This thread only waits: when it rendered too, the one worker it spawned started on its CPU
-/// and two threads were 1.38× one instead of 1.85× (interleaved runs; the scheduler is slow to
-/// move a new thread to the idle CPU).
+/// One thread is this one: spawning a worker made one-thread frames 5–10% slower here
+/// (interleaved runs; the frame's tables, just built, are in this CPU's cache). With more, this
+/// thread only waits: when it rendered too, the one worker it spawned started on its CPU and
+/// two threads were 1.38× one instead of 1.85× (the scheduler is slow to move a new thread to
+/// the idle CPU).
 fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize, image: &mut [Rgb888]) {
     let (w, h) = (frame.width() as usize, frame.height() as usize);
     // Bands of a few rows, handed out in order: short enough to balance uneven rows.
@@ -132,11 +134,15 @@ fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize, image: &mut [Rgb
     };
     std::thread::scope(|s| {
         let bar = show.then(|| s.spawn(|| progress(&done, &finished, h as u32)));
-        let workers: Vec<_> = (0..threads.min(h.div_ceil(band_rows)))
-            .map(|_| s.spawn(work))
-            .collect();
-        for worker in workers {
-            let _ = worker.join();
+        if threads == 1 {
+            work();
+        } else {
+            let workers: Vec<_> = (0..threads.min(h.div_ceil(band_rows)))
+                .map(|_| s.spawn(work))
+                .collect();
+            for worker in workers {
+                let _ = worker.join();
+            }
         }
         // Wake the progress thread at once rather than after its sleep, which would otherwise
         // be counted in the render time.
