@@ -981,8 +981,21 @@ pub(crate) fn hit_point_within(
     sphere: &Sphere,
     near2: f32,
 ) -> (Vec3, Vec3) {
+    hit_point_near(ray, t, f, sphere, offset_is_near(f, sphere.radius, near2))
+}
+
+/// [`hit_point_within`] with [`offset_is_near`]'s answer given: for primary rays, whose
+/// renderer decides it once per sphere and frame.
+#[inline]
+pub(crate) fn hit_point_near(
+    ray: &Ray,
+    t: f32,
+    f: Vec3,
+    sphere: &Sphere,
+    near: bool,
+) -> (Vec3, Vec3) {
     let d = ray.dir;
-    if offset_is_near(f, sphere.radius, near2) {
+    if near {
         return (ray.at(t), f + d * t);
     }
     hit_point_far(d.x, d.y, d.z, t, f.x, f.y, f.z, sphere).unwrap_or((ray.at(t), f + d * t))

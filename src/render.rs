@@ -35,7 +35,7 @@ use embedded_graphics::pixelcolor::Rgb888;
 
 use crate::camera::{sample_offset, Camera};
 use crate::error::Error;
-use crate::geometry::{hit_point_within, Prepared, Ray};
+use crate::geometry::{hit_point_near, Prepared, Ray};
 use crate::math::{powf, Color, Vec3};
 use crate::raster::{PixelBox, Screen, ETA};
 use crate::scene::{hit_from_offset, make_hit, Hit, Light, Scene};
@@ -186,8 +186,7 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     /// Every sphere's index: the candidate list of a shadow ray that must test them all, so
     /// that every shadow ray walks a plain slice.
     all: List<S>,
-    /// Per sphere, [`Frame::offset_near`]'s answer, decided once (hosts).
-    #[cfg(lanes)]
+    /// Per sphere, [`Frame::offset_near`]'s answer, decided once.
     near: heapless::Vec<bool, S>,
 }
 
@@ -235,7 +234,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             sweeps: heapless::Vec::new(),
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),
             all: heapless::Vec::new(),
-            #[cfg(lanes)]
             near: heapless::Vec::new(),
         };
         frame.prepare();
@@ -250,18 +248,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let (scene, camera) = (self.scene, self.camera);
         // Capacity S, at most S spheres (below `REST`, `FITS`), and at most L lights (the
         // scene's capacity): none of the pushes can fail.
-        for s in scene.spheres() {
-            let _ = self.eye.push(Prepared::exact(camera.eye(), s));
-        }
         let screen = Screen::new(camera);
-        for k in &self.eye {
-            let _ = self.boxes.push(screen.sphere_box(k));
-        }
-        self.all = (0..scene.spheres().len() as u16).collect();
-        #[cfg(lanes)]
-        for (s, (k, sphere)) in self.eye.iter().zip(scene.spheres()).enumerate() {
-            let near = crate::geometry::offset_is_near(k.f, sphere.radius, scene.near2(s));
-            let _ = self.near.push(near);
+        for (s, sphere) in scene.spheres().iter().enumerate() {
+            let k = Prepared::exact(camera.eye(), sphere);
+            let _ = self.boxes.push(screen.sphere_box(&k));
+            let _ = self
+                .near
+                .push(crate::geometry::offset_is_near(k.f, k.r, scene.near2(s)));
+            let _ = self.all.push(s as u16);
+            let _ = self.eye.push(k);
         }
         let axes = camera.basis();
         for (light, consts) in scene.lights().iter().zip(&mut self.lights) {
@@ -379,14 +374,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     fn eye_hit(&self, ray: &Ray, t: f32, s: usize) -> Option<Hit> {
         let k = self.eye.get(s)?;
         let sphere = self.scene.spheres().get(s)?;
-        let near2 = self.scene.near2(s);
+        let near = self.offset_near(s);
         Some(make_hit(
             ray,
             t,
             s,
             k.f,
             sphere,
-            near2,
+            near,
             ray.origin,
             Vec3::ZERO,
         ))
@@ -403,7 +398,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let (k, sphere) = (self.eye.get(s)?, self.scene.spheres().get(s)?);
         let offset = match cull.hit_o.get(slot) {
             Some(&offset) if cull.culled => offset,
-            _ => hit_point_within(ray, t, k.f, sphere, self.scene.near2(s)).1,
+            _ => hit_point_near(ray, t, k.f, sphere, self.offset_near(s)).1,
         };
         Some(hit_from_offset(
             ray.dir,
@@ -531,8 +526,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
 
     /// Whether `hit_point_within` takes `f + t·d` for primary hits on sphere `s` (its eye
     /// constants within near2 radii): the same choice for every pixel, which `Frame::new`
-    /// makes once per sphere for the lane paths.
-    #[cfg(lanes)]
+    /// makes once per sphere.
     #[inline(always)]
     fn offset_near(&self, s: usize) -> bool {
         self.near.get(s).copied().unwrap_or(false)
@@ -1237,7 +1231,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 os.get_mut(m),
             ) {
                 let ray = Ray::new(eye, Vec3::new(dx[m], dy[m], dz[m]));
-                (*p, *o) = hit_point_within(&ray, t[m], k.f, sphere, self.scene.near2(s));
+                (*p, *o) = hit_point_near(&ray, t[m], k.f, sphere, self.offset_near(s));
             }
         };
         let len = ps.len().min(os.len());
@@ -1392,7 +1386,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             // The point of `make_hit`, without the rest of the hit record, joins the bounds.
             let point = |ray: &Ray, t: f32, s: usize| {
                 let (e, sphere) = (self.eye.get(s)?, spheres.get(s)?);
-                Some(hit_point_within(ray, t, e.f, sphere, self.scene.near2(s)))
+                Some(hit_point_near(ray, t, e.f, sphere, self.offset_near(s)))
             };
             for sy in 0..n {
                 let y = j as f32 + sample_offset(sy, n);

@@ -3,7 +3,7 @@
 //! Every value is checked when it is added, so the render path never meets an invalid scene.
 
 use crate::error::Error;
-use crate::geometry::{hit_point_within, Prepared, Ray, Sphere, NEAR2_MIN};
+use crate::geometry::{hit_point_near, offset_is_near, Prepared, Ray, Sphere, NEAR2_MIN};
 use crate::math::{Color, Vec3};
 
 /// How a sphere reflects light.
@@ -487,17 +487,9 @@ impl<const S: usize, const L: usize> Scene<S, L> {
             }
         }
         best.map(|(t, i, f)| {
-            let near2 = self.near2(i);
-            make_hit(
-                ray,
-                t,
-                i,
-                f,
-                &self.spheres[i],
-                near2,
-                ray.origin,
-                Vec3::ZERO,
-            )
+            let sphere = &self.spheres[i];
+            let near = offset_is_near(f, sphere.radius, self.near2(i));
+            make_hit(ray, t, i, f, sphere, near, ray.origin, Vec3::ZERO)
         })
     }
 }
@@ -513,13 +505,13 @@ pub(crate) fn make_hit(
     i: usize,
     f: Vec3,
     sphere: &Sphere,
-    near2: f32,
+    near: bool,
     origin: Vec3,
     path: Vec3,
 ) -> Hit {
     let (d, o, p) = (ray.dir, origin, path);
     make_hit_xyz(
-        d.x, d.y, d.z, t, i, f.x, f.y, f.z, sphere, near2, o.x, o.y, o.z, p.x, p.y, p.z,
+        d.x, d.y, d.z, t, i, f.x, f.y, f.z, sphere, near, o.x, o.y, o.z, p.x, p.y, p.z,
     )
 }
 
@@ -542,7 +534,7 @@ fn make_hit_xyz(
     fy: f32,
     fz: f32,
     sphere: &Sphere,
-    near2: f32,
+    near: bool,
     ox: f32,
     oy: f32,
     oz: f32,
@@ -558,7 +550,7 @@ fn make_hit_xyz(
     );
     // The offset from the centre is computed directly (see `hit_point`): unlike
     // `point − centre` it does not lose the low bits of a point far from the origin.
-    let (_, offset) = hit_point_within(&ray, t, f, sphere, near2);
+    let (_, offset) = hit_point_near(&ray, t, f, sphere, near);
     hit_from_offset(ray.dir, t, i, sphere, offset, origin, path)
 }
 

@@ -10,7 +10,7 @@
 //! intersected again; [`exit_root`] says analytically where such a ray leaves it (only when seen
 //! from inside), so there is no self-shadowing "acne" and no epsilon to tune.
 
-use crate::geometry::{exit_root, Prepared, Ray, Sphere};
+use crate::geometry::{exit_root, offset_is_near, Prepared, Ray, Sphere};
 use crate::math::{spec_pow, Color, Vec3};
 use crate::scene::{make_hit, Hit, Light, Scene};
 
@@ -476,7 +476,10 @@ pub fn find_from<const S: usize, const L: usize>(
             best = Some((t, j, f, s));
         }
     }
-    best.map(|(t, j, f, s)| make_hit(ray, t, j, f, s, scene.near2(j), hit.anchor, hit.rel))
+    best.map(|(t, j, f, s)| {
+        let near = offset_is_near(f, s.radius, scene.near2(j));
+        make_hit(ray, t, j, f, s, near, hit.anchor, hit.rel)
+    })
 }
 
 /// The colour seen along a ray: the hit's local colour plus its mirror reflections, or the
