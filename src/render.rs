@@ -1543,8 +1543,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                             if e.key > key + band {
                                 break;
                             }
-                            if libm::fabsf(e.key - key) <= e.half + slack
-                                && libm::fabsf(e.key2 - key2) <= e.half + slack
+                            // `&`, not `&&`: one branch on the outcome rather than two.
+                            let near = e.half + slack;
+                            if (libm::fabsf(e.key - key) <= near)
+                                & (libm::fabsf(e.key2 - key2) <= near)
                             {
                                 consider(e.sphere);
                             }
