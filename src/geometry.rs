@@ -513,7 +513,7 @@ impl Prepared {
     pub(crate) fn hit_outside(&self, d: Vec3, tmin: f32, tmax: f32) -> Option<f32> {
         let (f, c, r) = (self.f, self.c, self.r);
         let (a, b) = (d.dot(d), f.dot(d));
-        hit_ab_of::<true>(f.x, f.y, f.z, c, r, d.x, d.y, d.z, a, b, tmin, tmax)
+        hit_outside_xyz(f.x, f.y, f.z, c, r, d.x, d.y, d.z, a, b, tmin, tmax)
     }
 
     /// Whether [`Prepared::hit_outside`] applies to these constants.
@@ -542,14 +542,62 @@ fn hit_ab_xyz(
     tmin: f32,
     tmax: f32,
 ) -> Option<f32> {
-    hit_ab_of::<false>(fx, fy, fz, c, r, dx, dy, dz, a, b, tmin, tmax)
+    let (f, d) = (Vec3::new(fx, fy, fz), Vec3::new(dx, dy, dz));
+    // The same roots as `roots`, with the early exits that make it cost about what the
+    // lecture's formula costs: most tests are misses.
+    // b² − ac is off by a few ε (b² + a|c|) (its rounding, and that of b and c); a value
+    // below −2⁻¹⁸ of that misses the sphere's whole line whatever the rounding. Most tests
+    // are such misses: one branch first, and no Hearn–Baker divide for them.
+    let bb = b * b;
+    let disc0 = bb - a * c;
+    if disc0 < -(bb + a * libm::fabsf(c)) * (1.0 / 262_144.0) {
+        return None;
+    }
+    // Outside (c > 0) and heading away (b ≥ 0): both roots are negative.
+    if c > 0.0 && b >= 0.0 && tmin >= 0.0 {
+        return None;
+    }
+    let rr = r * r;
+    let disc = if libm::fabsf(c) <= rr {
+        disc0
+    } else {
+        let l = f - d * (b / a);
+        a * (rr - l.dot(l))
+    };
+    if !((0.0..=f32::MAX).contains(&disc) && finite(c)) {
+        // Overflow shows as ±∞ or NaN somewhere on the way to disc (or in c).
+        if disc < 0.0 && finite(disc) {
+            return None;
+        }
+        return select(roots_scaled(f.x, f.y, f.z, d.x, d.y, d.z, r)?, tmin, tmax);
+    }
+    let s = sqrt(disc);
+    let q = if b > 0.0 { -(b + s) } else { s - b };
+    if q == 0.0 {
+        return select((0.0, 0.0), tmin, tmax);
+    }
+    let t0 = near_root(a, b, c, q, s);
+    // With q > 0 and c > 0, c/q is the near root (c/q ≤ q/a since q² ≥ b² ≥ ac): when it is
+    // in range the far root's divide is not needed.
+    if q > 0.0 && c > 0.0 && t0 >= tmin && t0 <= tmax && t0 < f32::INFINITY {
+        return Some(t0);
+    }
+    let t1 = q / a;
+    select(if t0 <= t1 { (t0, t1) } else { (t1, t0) }, tmin, tmax)
 }
 
-/// [`hit_ab_xyz`]; with `OUTSIDE`, for `c > 0` finite and `tmin ≥ 0` (see
-/// [`Prepared::hit_outside`]).
-#[inline]
+/// [`hit_ab_xyz`]'s steps for `c > 0` finite and `tmin ≥ 0` ([`Prepared::hit_outside`]), with
+/// the tests whose outcome that fixes left out: `c > 0` in the behind test and in the early
+/// return, `c`'s overflow check, `q`'s sign (b < 0 once the behind test has passed: b ≥ 0 left,
+/// and a NaN b makes disc NaN, which the range check sends to `roots_scaled`), `q = 0` (q ≥ −b >
+/// 0), and `near_root`'s `c > 0 && b < 0`. A copy rather than a const parameter of
+/// `hit_ab_xyz`: made generic, the general test's Cortex-M code grew by 4–5 instructions a test
+/// (numbench) and the host's renderer by 3.4 a pixel. `hit_outside_is_hit` pins the two
+/// together, bit for bit.
+#[cfg(any(test, not(lanes)))]
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn hit_ab_of<const OUTSIDE: bool>(
+fn hit_outside_xyz(
     fx: f32,
     fy: f32,
     fz: f32,
@@ -564,18 +612,12 @@ fn hit_ab_of<const OUTSIDE: bool>(
     tmax: f32,
 ) -> Option<f32> {
     let (f, d) = (Vec3::new(fx, fy, fz), Vec3::new(dx, dy, dz));
-    // The same roots as `roots`, with the early exits that make it cost about what the
-    // lecture's formula costs: most tests are misses.
-    // b² − ac is off by a few ε (b² + a|c|) (its rounding, and that of b and c); a value
-    // below −2⁻¹⁸ of that misses the sphere's whole line whatever the rounding. Most tests
-    // are such misses: one branch first, and no Hearn–Baker divide for them.
     let bb = b * b;
     let disc0 = bb - a * c;
     if disc0 < -(bb + a * libm::fabsf(c)) * (1.0 / 262_144.0) {
         return None;
     }
-    // Outside (c > 0) and heading away (b ≥ 0): both roots are negative.
-    if (OUTSIDE || c > 0.0) && b >= 0.0 && tmin >= 0.0 {
+    if b >= 0.0 && tmin >= 0.0 {
         return None;
     }
     let rr = r * r;
@@ -585,27 +627,16 @@ fn hit_ab_of<const OUTSIDE: bool>(
         let l = f - d * (b / a);
         a * (rr - l.dot(l))
     };
-    if !((0.0..=f32::MAX).contains(&disc) && (OUTSIDE || finite(c))) {
-        // Overflow shows as ±∞ or NaN somewhere on the way to disc (or in c).
+    if !(0.0..=f32::MAX).contains(&disc) {
         if disc < 0.0 && finite(disc) {
             return None;
         }
         return select(roots_scaled(f.x, f.y, f.z, d.x, d.y, d.z, r)?, tmin, tmax);
     }
     let s = sqrt(disc);
-    // With `OUTSIDE`, b < 0 here (b ≥ 0 left above; a NaN b made disc NaN): q = s − b > 0.
-    let q = if !OUTSIDE && b > 0.0 { -(b + s) } else { s - b };
-    if !OUTSIDE && q == 0.0 {
-        return select((0.0, 0.0), tmin, tmax);
-    }
-    let t0 = if OUTSIDE {
-        near_root_outside(a, b, c, q, s)
-    } else {
-        near_root(a, b, c, q, s)
-    };
-    // With q > 0 and c > 0, c/q is the near root (c/q ≤ q/a since q² ≥ b² ≥ ac): when it is
-    // in range the far root's divide is not needed.
-    if (OUTSIDE || (q > 0.0 && c > 0.0)) && t0 >= tmin && t0 <= tmax && t0 < f32::INFINITY {
+    let q = s - b;
+    let t0 = if s < -0.5 * b { (-b - s) / a } else { c / q };
+    if t0 >= tmin && t0 <= tmax && t0 < f32::INFINITY {
         return Some(t0);
     }
     let t1 = q / a;
@@ -855,16 +886,6 @@ impl Prepared {
 #[inline]
 fn near_root(a: f32, b: f32, c: f32, q: f32, s: f32) -> f32 {
     if c > 0.0 && b < 0.0 && s < -0.5 * b {
-        (-b - s) / a
-    } else {
-        c / q
-    }
-}
-
-/// [`near_root`] where `c > 0` and `b < 0` are known.
-#[inline(always)]
-fn near_root_outside(a: f32, b: f32, c: f32, q: f32, s: f32) -> f32 {
-    if s < -0.5 * b {
         (-b - s) / a
     } else {
         c / q
