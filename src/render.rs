@@ -1534,23 +1534,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 match band {
                     // Only the spheres whose key is near the span's, and the wide ones.
                     Some((sweep, key, band, slack, key2)) => {
-                        for &s in sweep.wide() {
+                        for &s in &sweep.wide {
                             consider(s);
                         }
-                        let narrow = sweep.narrow();
-                        let first = narrow.partition_point(|e| e.key < key - band);
-                        for e in narrow.get(first..).unwrap_or(&[]) {
-                            if e.key > key + band {
-                                break;
-                            }
-                            // `&`, not `&&`: one branch on the outcome rather than two.
-                            let near = e.half + slack;
-                            if (libm::fabsf(e.key - key) <= near)
-                                & (libm::fabsf(e.key2 - key2) <= near)
-                            {
-                                consider(e.sphere);
-                            }
-                        }
+                        sweep.scan(key, band, slack, key2, &mut consider);
                     }
                     None => {
                         for s in 0..spheres.len() {
@@ -1680,9 +1667,15 @@ const ANGLE_MARGIN: f32 = 1e-4;
 /// apart and always tested.
 #[derive(Debug)]
 struct Sweep<const S: usize> {
-    /// The wide spheres first (`wide` of them, keys unused), then the rest sorted by key.
-    entries: heapless::Vec<Entry, S>,
-    wide: usize,
+    /// The wide spheres.
+    wide: List<S>,
+    /// The rest sorted by key, by field: hosts weigh four entries at a time (`Frame::gather`).
+    key: heapless::Vec<f32, S>,
+    /// Each one's half-width of its padded cone (angle) or radius (length) along the key.
+    half: heapless::Vec<f32, S>,
+    /// Each one's coordinate along `axis2`.
+    key2: heapless::Vec<f32, S>,
+    sphere: List<S>,
     /// The largest half-width of the sorted ones.
     hw_max: f32,
     /// The key axis (unit).
@@ -1696,7 +1689,7 @@ struct Sweep<const S: usize> {
     axis2: Vec3,
 }
 
-/// One sphere in a [`Sweep`].
+/// One sphere in a [`Sweep`], while it is built.
 #[derive(Debug, Clone, Copy)]
 struct Entry {
     /// Its position along the sweep's axis (an angle for a point light).
@@ -1722,8 +1715,11 @@ impl Entry {
 impl<const S: usize> Sweep<S> {
     const fn empty() -> Self {
         Sweep {
-            entries: heapless::Vec::new(),
-            wide: 0,
+            wide: heapless::Vec::new(),
+            key: heapless::Vec::new(),
+            half: heapless::Vec::new(),
+            key2: heapless::Vec::new(),
+            sphere: heapless::Vec::new(),
             hw_max: 0.0,
             axis: Vec3::ZERO,
             axis2: Vec3::ZERO,
@@ -1791,24 +1787,75 @@ impl<const S: usize> Sweep<S> {
         let is_wide =
             |e: &Entry| !(e.half <= 8.0 * median && e.key.is_finite() && e.key2.is_finite());
         for e in all.iter().filter(|e| is_wide(e)) {
-            let _ = self.entries.push(*e);
+            let _ = self.wide.push(e.sphere);
         }
-        self.wide = self.entries.len();
-        for e in all.iter().filter(|e| !is_wide(e)) {
-            let _ = self.entries.push(*e);
+        all.retain(|e| !is_wide(e));
+        all.sort_unstable_by(|a, b| a.key.total_cmp(&b.key));
+        // At most S entries in all: none of the pushes can fail.
+        for e in &all {
+            let _ = self.key.push(e.key);
+            let _ = self.half.push(e.half);
+            let _ = self.key2.push(e.key2);
+            let _ = self.sphere.push(e.sphere);
             self.hw_max = self.hw_max.max(e.half);
         }
-        if let Some(narrow) = self.entries.get_mut(self.wide..) {
-            narrow.sort_unstable_by(|a, b| a.key.total_cmp(&b.key));
+    }
+
+    /// Calls `consider` with the sorted spheres, in their order, whose `|key_j − key| ≤
+    /// half_j + slack` and `|key2_j − key2| ≤ half_j + slack` among those with `key_j` within
+    /// `band` of `key` (see [`Sweep::band`]).
+    #[inline(always)]
+    fn scan(&self, key: f32, band: f32, slack: f32, key2: f32, consider: &mut impl FnMut(u16)) {
+        let (hi, n) = (key + band, self.key.len());
+        let mut i = self.key.partition_point(|&k| k < key - band);
+        // Hosts: four entries at a time, the same comparisons lane by lane; the keys are sorted,
+        // so the entries within the band are a prefix of the four.
+        #[cfg(lanes)]
+        {
+            use crate::math::lanes::{bits, ones, F};
+            use wide::CmpLe;
+            let four = |v: &heapless::Vec<f32, S>, i: usize| -> Option<F> {
+                let a: [f32; 4] = v.get(i..i + 4)?.try_into().ok()?;
+                Some(F::from(a))
+            };
+            while let (Some(k), Some(h), Some(k2)) =
+                (four(&self.key, i), four(&self.half, i), four(&self.key2, i))
+            {
+                let near = h + F::splat(slack);
+                let within = k.cmp_le(F::splat(hi));
+                let keep = within
+                    & (k - F::splat(key)).abs().cmp_le(near)
+                    & (k2 - F::splat(key2)).abs().cmp_le(near);
+                for l in ones(bits(keep)) {
+                    if let Some(&s) = self.sphere.get(i + l) {
+                        consider(s);
+                    }
+                }
+                if bits(within) != 0b1111 {
+                    return;
+                }
+                i += 4;
+            }
         }
-    }
-
-    fn wide(&self) -> impl Iterator<Item = &u16> {
-        self.entries.iter().take(self.wide).map(|e| &e.sphere)
-    }
-
-    fn narrow(&self) -> &[Entry] {
-        self.entries.get(self.wide..).unwrap_or(&[])
+        while i < n {
+            let (Some(&k), Some(&h), Some(&k2), Some(&s)) = (
+                self.key.get(i),
+                self.half.get(i),
+                self.key2.get(i),
+                self.sphere.get(i),
+            ) else {
+                return;
+            };
+            if k > hi {
+                return;
+            }
+            // `&`, not `&&`: one branch on the outcome rather than two.
+            let near = h + slack;
+            if (libm::fabsf(k - key) <= near) & (libm::fabsf(k2 - key2) <= near) {
+                consider(s);
+            }
+            i += 1;
+        }
     }
 
     /// For shadow rays from the ball `(q, rho)`: `(self, key, band, slack, key2)` where the
