@@ -1814,20 +1814,24 @@ impl<const S: usize> Sweep<S> {
         {
             use crate::math::lanes::{bits, ones, F};
             use wide::CmpLe;
-            let four = |v: &heapless::Vec<f32, S>, i: usize| -> Option<F> {
-                let a: [f32; 4] = v.get(i..i + 4)?.try_into().ok()?;
-                Some(F::from(a))
-            };
-            while let (Some(k), Some(h), Some(k2)) =
-                (four(&self.key, i), four(&self.half, i), four(&self.key2, i))
-            {
+            fn from(v: &[f32], i: usize) -> &[f32] {
+                v.get(i..).unwrap_or(&[])
+            }
+            let (ks, hs, k2s) = (from(&self.key, i), from(&self.half, i), from(&self.key2, i));
+            let ss = self.sphere.get(i..).unwrap_or(&[]);
+            let quads = ks.chunks_exact(4).zip(hs.chunks_exact(4));
+            for ((k, h), (k2, s)) in quads.zip(k2s.chunks_exact(4).zip(ss.chunks_exact(4))) {
+                let four = |c: &[f32]| <[f32; 4]>::try_from(c).ok().map(F::from);
+                let (Some(k), Some(h), Some(k2)) = (four(k), four(h), four(k2)) else {
+                    break;
+                };
                 let near = h + F::splat(slack);
                 let within = k.cmp_le(F::splat(hi));
                 let keep = within
                     & (k - F::splat(key)).abs().cmp_le(near)
                     & (k2 - F::splat(key2)).abs().cmp_le(near);
                 for l in ones(bits(keep)) {
-                    if let Some(&s) = self.sphere.get(i + l) {
+                    if let Some(&s) = s.get(l) {
                         consider(s);
                     }
                 }
