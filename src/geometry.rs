@@ -589,11 +589,11 @@ fn hit_ab_xyz(
 /// [`hit_ab_xyz`]'s steps for `c > 0` finite and `tmin ≥ 0` ([`Prepared::hit_outside`]), with
 /// the tests whose outcome that fixes left out: `c > 0` in the behind test and in the early
 /// return, `c`'s overflow check, `q`'s sign (b < 0 once the behind test has passed: b ≥ 0 left,
-/// and a NaN b makes disc NaN, which the range check sends to `roots_scaled`), `q = 0` (q ≥ −b >
-/// 0), and `near_root`'s `c > 0 && b < 0`. A copy rather than a const parameter of
-/// `hit_ab_xyz`: made generic, the general test's Cortex-M code grew by 4–5 instructions a test
-/// (numbench) and the host's renderer by 3.4 a pixel. `hit_outside_is_hit` pins the two
-/// together, bit for bit.
+/// and a NaN b makes disc NaN, which the range check hands to the general test with any other
+/// overflow), `q = 0` (q ≥ −b > 0), and `near_root`'s `c > 0 && b < 0`. A copy rather than a
+/// const parameter of `hit_ab_xyz`: made generic, the general test's Cortex-M code grew by 4–5
+/// instructions a test (numbench) and the host's renderer by 3.4 a pixel.
+/// `hit_outside_is_hit` pins the two together, bit for bit.
 #[cfg(any(test, not(lanes)))]
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
@@ -631,7 +631,8 @@ fn hit_outside_xyz(
         if disc < 0.0 && finite(disc) {
             return None;
         }
-        return select(roots_scaled(f.x, f.y, f.z, d.x, d.y, d.z, r)?, tmin, tmax);
+        // Overflow, rare: the general test, which gives this test's answer too.
+        return hit_ab_xyz(fx, fy, fz, c, r, dx, dy, dz, a, b, tmin, tmax);
     }
     let s = sqrt(disc);
     let q = s - b;
