@@ -113,9 +113,9 @@ fn run(args: Args) -> Result<(), Failure> {
 ///
 /// One thread is this one: spawning a worker made one-thread frames 5–10% slower here
 /// (interleaved runs; the frame's tables, just built, are in this CPU's cache). With more, this
-/// thread only waits: when it rendered too, the one worker it spawned started on its CPU and
-/// two threads were 1.38× one instead of 1.85× (the scheduler is slow to move a new thread to
-/// the idle CPU).
+/// thread only waits: when it rendered too, the one worker it spawned shared its CPU (timed
+/// band by band, the two took as long as one thread alone; 1.38× one over 21 interleaved runs
+/// instead of 1.85×).
 fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize, image: &mut [Rgb888]) {
     let (w, h) = (frame.width() as usize, frame.height() as usize);
     // Bands of a few rows, handed out in order: short enough to balance uneven rows.
