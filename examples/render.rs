@@ -9,7 +9,7 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -89,42 +89,54 @@ fn run(args: Args) -> Result<(), Failure> {
     let mut image = vec![Rgb888::MAGENTA; width as usize * height as usize];
     let alloc_ms = alloc.elapsed().as_secs_f64() * 1e3;
 
-    let start = Instant::now();
-    // On the stack and borrowed where it lies: `Box::new` or moving it out of the `Result`
-    // copies the whole frame, its capacity included (0.7 MB at 1024 spheres and 32 lights),
-    // into fresh pages, serial work before the threads start.
-    let made = Frame::new(&file.scene, &camera, options);
-    let frame = match &made {
-        Ok(frame) => frame,
-        Err(e) => return Err(Failure(2, format!("--samples: {e}"))),
-    };
-    render_parallel(frame, threads, &mut image);
-    let ms = start.elapsed().as_secs_f64() * 1e3;
+    let (ms, pool_ms) = render(&file.scene, &camera, options, threads, &mut image)?;
 
     write_png(&args.output, width, height, &image)?;
     println!("wrote {} ({width}x{height})", args.output.display());
     println!("image buffer: {alloc_ms:.1} ms");
-    println!("render: {ms:.1} ms");
+    if let Some(pool_ms) = pool_ms {
+        println!("thread start-up: {pool_ms:.2} ms");
+    }
+    println!("render: {ms:.2} ms");
     Ok(())
 }
 
+/// The desktop capacity of `Desktop` scenes.
+type DeskFrame<'a> = Frame<'a, 1024, 32>;
+
 /// Renders `image` in bands of rows on `threads` threads through the library's band API, with a
-/// progress bar on a terminal once the render takes more than a second.
+/// progress bar on a terminal once the render takes more than a second. Returns the `render:`
+/// time in ms, from the start of `Frame::new` to the last band written, and for several threads
+/// the time it took to start them, which comes before that clock.
 ///
 /// One thread is this one: spawning a worker made one-thread frames 5–10% slower here
-/// (interleaved runs; the frame's tables, just built, are in this CPU's cache). With more, this
-/// thread only waits: when it rendered too, the one worker it spawned shared its CPU (timed
-/// band by band, the two took as long as one thread alone; 1.38× one over 21 interleaved runs
-/// instead of 1.85×).
-fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize, image: &mut [Rgb888]) {
-    let (w, h) = (frame.width() as usize, frame.height() as usize);
+/// (interleaved runs). Several threads are spawned workers, started before the clock as a
+/// renderer's thread pool is: on this VM a new thread first runs 50–190 µs after its spawn (its
+/// idle vCPU has to be woken), program start-up rather than rendering (POV-Ray's trace time
+/// leaves its threads' start out likewise). They wait for the start spinning, with `yield_now`
+/// so that a thread sharing their CPU still runs, because a parked thread would take that
+/// latency again to wake. Each builds its own `Frame` (~0.1 ms, in parallel), so no frame has to
+/// be moved to where the threads can borrow it (0.7 MB at this capacity). This thread does not
+/// render with them: a worker it spawned was queued on its CPU, and the two took as long as one
+/// thread alone (1.38× one over 21 interleaved runs instead of 1.85×). The last worker to
+/// finish unparks it: waiting in `join`, or spinning with `yield_now`, it learned of the end
+/// ~0.1–0.25 ms late (after the thread's exit, or after the scheduler's slice).
+fn render(
+    scene: &microray::Scene<1024, 32>,
+    camera: &microray::Camera,
+    options: RenderOptions,
+    threads: usize,
+    image: &mut [Rgb888],
+) -> Result<(f64, Option<f64>), Failure> {
+    let (w, h) = (camera.width() as usize, camera.height() as usize);
+    let failed = |e: microray::Error| Failure(2, format!("--samples: {e}"));
     // Bands of a few rows, handed out in order: short enough to balance uneven rows.
     let band_rows = 4;
     let bands = Mutex::new(image.chunks_mut(w * band_rows).enumerate());
     let done = AtomicU32::new(0);
     let finished = AtomicBool::new(false);
     let show = std::io::stderr().is_terminal();
-    let work = || loop {
+    let work = |frame: &DeskFrame<'_>| loop {
         let next = bands.lock().unwrap_or_else(|e| e.into_inner()).next();
         let Some((b, band)) = next else { break };
         // Every band holds whole rows inside the image, so this cannot fail.
@@ -132,26 +144,108 @@ fn render_parallel(frame: &Frame<'_, 1024, 32>, threads: usize, image: &mut [Rgb
             done.fetch_add(rows, Ordering::Relaxed);
         }
     };
+    let workers = threads.min(h.div_ceil(band_rows));
+    // How many workers wait for the start, whether to start (`GO`) or not (`STOP`), and how
+    // many have not finished.
+    let ready = AtomicUsize::new(0);
+    let state = AtomicU8::new(WAIT);
+    let left = AtomicUsize::new(workers);
+    let waiter = std::thread::current();
     std::thread::scope(|s| {
         let bar = show.then(|| s.spawn(|| progress(&done, &finished, h as u32)));
+        // Stops the progress thread however this scope is left (an error, a worker's panic),
+        // and at once rather than after its sleep, which would be counted in the render time.
+        let _stop_bar = Finally(|| {
+            finished.store(true, Ordering::Relaxed);
+            if let Some(bar) = &bar {
+                bar.thread().unpark();
+            }
+        });
         if threads == 1 {
-            work();
-        } else {
-            let workers: Vec<_> = (0..threads.min(h.div_ceil(band_rows)))
-                .map(|_| s.spawn(work))
-                .collect();
-            for worker in workers {
-                let _ = worker.join();
+            warm_stack();
+            let start = Instant::now();
+            // On the stack and borrowed where it lies: `Box::new` or moving it out of the
+            // `Result` copies the whole frame, its capacity included.
+            let made = Frame::new(scene, camera, options);
+            made.as_ref().map(work).map_err(|&e| failed(e))?;
+            return Ok((start.elapsed().as_secs_f64() * 1e3, None));
+        }
+        let pool = Instant::now();
+        let mut spawned = Vec::with_capacity(workers);
+        for _ in 0..workers {
+            let worker = std::thread::Builder::new()
+                .stack_size(WARM + (1 << 20))
+                .spawn_scoped(s, || {
+                    warm_stack();
+                    ready.fetch_add(1, Ordering::Release);
+                    loop {
+                        match state.load(Ordering::Acquire) {
+                            WAIT => std::thread::yield_now(),
+                            GO => break,
+                            _ => return Ok(()),
+                        }
+                    }
+                    let made = Frame::new(scene, camera, options);
+                    let result = made.as_ref().map(work).map_err(|&e| e);
+                    if left.fetch_sub(1, Ordering::Release) == 1 {
+                        waiter.unpark();
+                    }
+                    result
+                });
+            match worker {
+                Ok(worker) => spawned.push(worker),
+                Err(e) => {
+                    state.store(STOP, Ordering::Release);
+                    return Err(Failure(1, format!("cannot start a thread: {e}")));
+                }
             }
         }
-        // Wake the progress thread at once rather than after its sleep, which would otherwise
-        // be counted in the render time.
-        finished.store(true, Ordering::Relaxed);
-        if let Some(bar) = bar {
-            bar.thread().unpark();
+        while ready.load(Ordering::Acquire) < workers {
+            std::thread::yield_now();
         }
-    });
+        let pool_ms = pool.elapsed().as_secs_f64() * 1e3;
+        let start = Instant::now();
+        state.store(GO, Ordering::Release);
+        while left.load(Ordering::Acquire) > 0 {
+            std::thread::park();
+        }
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        let mut result = Ok(());
+        for worker in spawned {
+            let r = worker
+                .join()
+                .unwrap_or_else(|e| std::panic::resume_unwind(e));
+            result = result.and(r);
+        }
+        result.map_err(failed).map(|()| (ms, Some(pool_ms)))
+    })
 }
+
+/// Runs its closure when dropped.
+struct Finally<F: FnMut()>(F);
+
+impl<F: FnMut()> Drop for Finally<F> {
+    fn drop(&mut self) {
+        (self.0)();
+    }
+}
+
+/// The stack `Frame::new` uses here: the frame and the temporary it is built in.
+const WARM: usize = 2 * std::mem::size_of::<DeskFrame<'static>>() + (64 << 10);
+
+/// Writes the next `WARM` bytes of this thread's stack before the clock starts, as the image
+/// buffer is written: the kernel maps a stack page at its first touch (~2 µs a page here), and
+/// `Frame::new` at this capacity touches ~140 fresh pages (0.2–0.3 ms, more than building the
+/// frame), a cost that a renderer pays at its first frame only.
+#[inline(never)]
+fn warm_stack() {
+    let mut stack = [0u8; WARM];
+    std::hint::black_box(&mut stack);
+}
+
+const WAIT: u8 = 0;
+const GO: u8 = 1;
+const STOP: u8 = 2;
 
 fn progress(done: &AtomicU32, finished: &AtomicBool, total: u32) {
     let start = Instant::now();
