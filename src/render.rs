@@ -837,7 +837,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 None => self.camera.view_ray(i, j, 0, 0, 1),
             };
             // The hit record from (t, sphere): `make_hit` is a pure function of them.
-            let first = if OFFS > 0 && SPHERE_MAJOR {
+            let first = if KEEPS_OFFSETS && SPHERE_MAJOR {
                 self.kept_hit(&ray, t, s as usize, k, cull)
             } else {
                 self.eye_hit(&ray, t, s as usize)
@@ -885,7 +885,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 self.camera.view_ray(i, j, m % n, m / n, n)
             }
         };
-        let first = if OFFS > 0 && SPHERE_MAJOR {
+        let first = if KEEPS_OFFSETS && SPHERE_MAJOR {
             self.kept_hit(&ray, t, s as usize, slot, cull)
         } else {
             self.eye_hit(&ray, t, s as usize)
@@ -1402,7 +1402,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         // Scratch slots where this sample's hits are not kept.
                         let base = if kept { base } else { 0 };
                         self.trace_span(i0, i1, ox, y, base, cull);
-                        if self.shadow_rays && OFFS > 0 {
+                        if self.shadow_rays && KEEPS_OFFSETS {
                             // The points `trace_span` computed with its hits (`cfg(lanes)`), four
                             // at a time where four neighbours hit one sphere: their box, in
                             // registers, joins the group once.
@@ -1609,11 +1609,14 @@ const KEPT: usize = if cfg!(target_arch = "arm") { 1 } else { 4 };
 const DPAD: usize = DIRS + crate::geometry::LANES - 1;
 /// Whether a span traces its primary rays sphere by sphere (`Frame::trace_span`), which needs
 /// room for every pixel's view direction; on soft-float Arm, with none, pixel by pixel.
-const SPHERE_MAJOR: bool = DIRS >= SPAN;
+const SPHERE_MAJOR: bool = DIRS == SPAN * KEPT;
 /// Kept hits whose offset from the centre the span keeps from its bounds for shading, which
 /// spares `make_hit` computing it again: all on hosts with f32 vectors (`cfg(lanes)`), none on
 /// Cortex-M, whose render stack has no room for 12 more bytes a pixel.
-const OFFS: usize = if cfg!(lanes) { SPAN * KEPT } else { 0 };
+const OFFS: usize = if KEEPS_OFFSETS { SPAN * KEPT } else { 0 };
+/// Whether spans keep hit offsets (`OFFS` not zero), a flag so that Cortex-M builds, where
+/// `OFFS` is 0, test no comparison that is always false (clippy's `absurd_extreme_comparisons`).
+const KEEPS_OFFSETS: bool = cfg!(lanes);
 // `Cull::done` has a bit per span pixel.
 const _: () = assert!(SPAN <= 32);
 /// A light's pool range when it must test every sphere (empty as `a..b`: `a > b`).
