@@ -185,12 +185,15 @@ fn render(
                             _ => return Ok(()),
                         }
                     }
+                    // Counted as finished however it ends, a panic included, so that the
+                    // waiting thread always wakes (and `join` then passes the panic on).
+                    let _finished = Finally(|| {
+                        if left.fetch_sub(1, Ordering::Release) == 1 {
+                            waiter.unpark();
+                        }
+                    });
                     let made = Frame::new(scene, camera, options);
-                    let result = made.as_ref().map(work).map_err(|&e| e);
-                    if left.fetch_sub(1, Ordering::Release) == 1 {
-                        waiter.unpark();
-                    }
-                    result
+                    made.as_ref().map(work).map_err(|&e| e)
                 });
             match worker {
                 Ok(worker) => spawned.push(worker),
