@@ -250,15 +250,18 @@ impl Hits4 {
 /// [`shade_lit`] of four hits on one sphere (one material) at once, in vector lanes: lane `l`
 /// is `shade_lit(scene, &h.hit(l), h.dir.lane(l), …)`, bit for bit. Each step is the scalar
 /// step lane by lane (the same IEEE operations in the same order), a branch a selection
-/// between both arms. `blocked(i, light, ask, to)` answers for the lanes in `ask` (those with
-/// `n·l > 0`, which the scalar loop would ask) which are in shadow. `None` where a lane leaves
+/// between both arms. Only the lanes in `active` are asked for and checked; the others may
+/// hold any values (another sphere's hits), and their colours mean nothing.
+/// `blocked(i, light, ask, to)` answers for the lanes in `ask` (active ones with `n·l > 0`,
+/// which the scalar loop would ask) which are in shadow. `None` where an active lane leaves
 /// the common case (a light vector whose square leaves the normal range, a specular power
-/// that is not a whole number): the caller shades those four pixels with the scalar code.
+/// that is not a whole number): the caller shades those pixels with the scalar code.
 #[cfg(lanes)]
-#[inline]
+#[inline(always)]
 pub(crate) fn shade_lit4<const S: usize, const L: usize>(
     scene: &Scene<S, L>,
     h: &Hits4,
+    active: u32,
     mut blocked: impl FnMut(usize, &Light, u32, &V) -> u32,
 ) -> Option<V> {
     use wide::{CmpGt, CmpLe};
@@ -280,7 +283,7 @@ pub(crate) fn shade_lit4<const S: usize, const L: usize>(
                 let to = V::splat(position).sub(h.anchor).sub(h.rel);
                 let ll = to.dot(to);
                 let normal = F::splat(f32::MIN_POSITIVE).cmp_le(ll) & ll.cmp_le(F::splat(f32::MAX));
-                if bits(normal) != 0b1111 {
+                if bits(normal) & active != active {
                     return None;
                 }
                 (to, to.div(ll.sqrt()))
@@ -292,7 +295,7 @@ pub(crate) fn shade_lit4<const S: usize, const L: usize>(
         };
         let nl = n.dot(l);
         let facing = nl.cmp_gt(F::ZERO);
-        let ask = bits(facing);
+        let ask = bits(facing) & active;
         if ask == 0 {
             continue;
         }
