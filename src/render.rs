@@ -1716,14 +1716,14 @@ fn group_of(groups: &[Group; GROUPS], sphere: usize) -> Option<usize> {
 const ANGLE_MARGIN: f32 = 1e-4;
 
 /// One light's spheres sorted by a key, so that a span finds its possible shadow blockers by a
-/// binary search instead of testing every sphere, and filtered by a second key (`axis2`): for
-/// a point light, the angle between
-/// a fixed axis and the direction from the light to the sphere, with the half-angle of the
-/// sphere's (padded) cone as half-width; for a directional light, the position along an axis
-/// across the light, with the padded radius as half-width. A sphere can block a shadow ray
-/// from a span only if its key interval meets the span's (the angle between two directions is
-/// at least the difference of their angles to a third; a distance at least the difference of
-/// its projections), so the band is a superset of [`may_block`]'s answers, which then decides.
+/// search in a bucket instead of testing every sphere, and filtered by a second key (`axis2`):
+/// for a point light, the component along an axis across the light of the unit direction from
+/// the light to the sphere, with the half-angle of the sphere's (padded) cone as half-width;
+/// for a directional light, the position along an axis across the light, with the padded
+/// radius as half-width. A sphere can block a shadow ray from a span only if its key interval
+/// meets the span's (two unit directions at an angle θ differ by at most θ in any component; a
+/// distance is at least the difference of its projections), so the band is a superset of
+/// [`may_block`]'s answers, which then decides.
 /// Spheres much wider than the rest (a ground, a wall) would widen every band: they are kept
 /// apart and always tested.
 #[derive(Debug)]
@@ -1747,21 +1747,18 @@ struct Sweep<const S: usize> {
     /// The smallest key, and buckets per unit of key (zero: one bucket).
     k_lo: f32,
     per_key: f32,
-    /// The key axis (unit).
+    /// The key axis (unit, across the light: a point light's mean direction to the spheres).
     axis: Vec3,
-    /// A second axis (unit, across `axis`), whose coordinates are each entry's `key2`: a sphere
-    /// must be near the span in both keys, a tube along the light instead of a slab. For a
-    /// directional light the position along it; for a point light the component along it of
-    /// the unit direction from the light, which two directions at an angle θ differ in by at
-    /// most 2 sin(θ/2) ≤ θ, so the key's angular half-widths bound it too, without an
-    /// `atan2f` per span.
+    /// A second axis (unit, across the light and `axis`), whose coordinates are each entry's
+    /// `key2`: a sphere must be near the span in both keys, a tube along the light instead of
+    /// a slab.
     axis2: Vec3,
 }
 
 /// One sphere in a [`Sweep`], while it is built.
 #[derive(Debug, Clone, Copy)]
 struct Entry {
-    /// Its position along the sweep's axis (an angle for a point light).
+    /// Its position along the sweep's axis (of its unit direction, for a point light).
     key: f32,
     /// The half-width of its padded cone (angle) or radius (length) along the key.
     half: f32,
@@ -1816,29 +1813,34 @@ impl<const S: usize> Sweep<S> {
 
     /// Sorts `spheres` for `light` into this sweep, which must be empty.
     fn fill(&mut self, light: &Light, spheres: &[crate::Sphere], u: Vec3, v: Vec3) {
-        let axis = match *light {
-            Light::Point { .. } => Some(u),
-            Light::Directional { direction, .. } => {
-                // An axis across the light: the camera's right (or up) vector without its
-                // component along the light.
-                let across = |a: Vec3| a - direction * a.dot(direction);
-                let a = across(u);
-                let a = if a.dot(a) > 0.01 { a } else { across(v) };
-                a.normalized()
-            }
+        // Keys across the light's direction (a point light's: the mean direction from it to
+        // the spheres, else the view's), where they spread the spheres the most: a point
+        // light's are the components of the unit direction to each sphere, which two
+        // directions at an angle θ differ in by at most 2 sin(θ/2) ≤ θ, so angular
+        // half-widths bound them (an angle from one axis took an `atan2f` per span).
+        let along = match *light {
+            Light::Point { position, .. } => spheres
+                .iter()
+                .filter_map(|s| (s.center - position).normalized())
+                .fold(Vec3::ZERO, |sum, d| sum + d)
+                .normalized()
+                .or_else(|| u.cross(v).normalized()),
+            Light::Directional { direction, .. } => Some(direction),
         };
-        let Some(axis) = axis else {
+        let axis = along.and_then(|c| {
+            // The camera's right (or up) vector without its component along `c`.
+            let across = |a: Vec3| a - c * a.dot(c);
+            let a = across(u);
+            let a = if a.dot(a) > 0.01 { a } else { across(v) };
+            a.normalized()
+        });
+        let (Some(along), Some(axis)) = (along, axis) else {
             return;
         };
         self.axis = axis;
-        self.axis2 = match *light {
-            // The camera's up vector, across its right one (`axis`): the third coordinate,
-            // which the keys leave out, is then along the view, where a scene's spheres
-            // seldom lie on both sides of a light.
-            Light::Point { .. } => (v - axis * v.dot(axis)).normalized(),
-            Light::Directional { direction, .. } => direction.cross(axis).normalized(),
-        }
-        .unwrap_or(Vec3::ZERO);
+        // The third coordinate, which the keys leave out, is then along the light, where a
+        // scene's spheres seldom lie on both sides of a point light.
+        self.axis2 = along.cross(axis).normalized().unwrap_or(Vec3::ZERO);
         let axis2 = self.axis2;
         let mut all: heapless::Vec<Entry, S> = heapless::Vec::new();
         for (s, sphere) in spheres.iter().enumerate() {
@@ -1854,9 +1856,9 @@ impl<const S: usize> Sweep<S> {
                         // The light inside or near: wide.
                         Entry::new(0.0, f32::INFINITY, s, 0.0)
                     } else {
-                        let key = libm::atan2f(axis.cross(w).length(), axis.dot(w));
                         let hw = libm::atan2f(big, libm::sqrtf(ww - big * big));
-                        Entry::new(key, hw, s, axis2.dot(w) / libm::sqrtf(ww))
+                        let len = libm::sqrtf(ww);
+                        Entry::new(axis.dot(w) / len, hw, s, axis2.dot(w) / len)
                     }
                 }
                 Light::Directional { .. } => {
@@ -2024,11 +2026,11 @@ impl<const S: usize> Sweep<S> {
                 if !(vv > rho * rho * 1.01) {
                     return None;
                 }
-                let key = libm::atan2f(self.axis.cross(v).length(), self.axis.dot(v));
+                let len = libm::sqrtf(vv);
+                let (key, key2) = (self.axis.dot(v) / len, self.axis2.dot(v) / len);
                 // The ball's half-angle seen from the light is atan of this, and atan x ≤ x:
-                // a wider band, never a narrower one, for one `atan2f` less per span.
+                // a wider band, never a narrower one, without an `atan2f` per span.
                 let tan_theta = rho / libm::sqrtf(vv - rho * rho);
-                let key2 = self.axis2.dot(v) / libm::sqrtf(vv);
                 (key, tan_theta + ANGLE_MARGIN, key2)
             }
             // The same bound holds along any unit axis across a directional light.
