@@ -387,9 +387,7 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
                         c,
                         r: s.radius,
                     };
-                    let ds = core::array::from_fn(|l| d.lane(l));
-                    let hits = k.hit4(&ds, T_EPS, [T_BELOW_ONE; 4]);
-                    open & (0..4).fold(0, |m, l| m | (hits[l].is_some() as u32) << l)
+                    k.hit_bits4(&d, T_EPS, T_BELOW_ONE, open)
                 }
                 _ => leaving(s, to, T_BELOW_ONE, open),
             },
