@@ -396,9 +396,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     #[inline]
     fn kept_hit(&self, ray: &Ray, t: f32, s: usize, slot: usize, cull: &Cull<S, L>) -> Option<Hit> {
         let (k, sphere) = (self.eye.get(s)?, self.scene.spheres().get(s)?);
+        // Within near2 the offset is `f + t·d`, cheaper to redo than to keep (`hit_points_lanes`
+        // does not store it there).
+        let near = self.offset_near(s);
         let offset = match cull.hit_o.get(slot) {
-            Some(&offset) if cull.culled => offset,
-            _ => hit_point_near(ray, t, k.f, sphere, self.offset_near(s)).1,
+            Some(&offset) if cull.culled && !near => offset,
+            _ => hit_point_near(ray, t, k.f, sphere, near).1,
         };
         Some(hit_from_offset(
             ray.dir,
@@ -1242,7 +1245,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// `hit_point_within` of every hit of a span (its point and offset, as `make_hit` and the
     /// span's bounds compute them) into `ps` and `os`: four at a time where four neighbouring
     /// columns hit one sphere on `f + t·d`'s side of `near2` (the same operations lane by lane,
-    /// so the same bits), else one by one.
+    /// so the same bits; the offset, `f + t·d`, is not stored there), else one by one.
     #[cfg(lanes)]
     #[inline(always)]
     fn hit_points_lanes<const PAD: usize>(
@@ -1308,10 +1311,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 m = end;
                 continue;
             }
-            let Some(k) = self.eye.get(s as usize) else {
-                m += LANES;
-                continue;
-            };
             let lanes =
                 |a: &[f32; PAD]| F::from(core::array::from_fn::<f32, LANES, _>(|l| a[m + l]));
             let (x, y, z, tt) = (lanes(dx), lanes(dy), lanes(dz), lanes(t));
@@ -1321,17 +1320,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 F::splat(eye.y) + y * tt,
                 F::splat(eye.z) + z * tt,
             );
-            let (ox, oy, oz) = (
-                F::splat(k.f.x) + x * tt,
-                F::splat(k.f.y) + y * tt,
-                F::splat(k.f.z) + z * tt,
-            );
+            // The offsets, `f + t·d`, are left out: shading redoes them where it needs them
+            // (`kept_hit`, `shade4`), which costs less than storing them by point.
             let (px, py, pz) = (px.to_array(), py.to_array(), pz.to_array());
-            let (ox, oy, oz) = (ox.to_array(), oy.to_array(), oz.to_array());
             for l in 0..LANES {
-                if let (Some(p), Some(o)) = (ps.get_mut(m + l), os.get_mut(m + l)) {
+                if let Some(p) = ps.get_mut(m + l) {
                     *p = Vec3::new(px[l], py[l], pz[l]);
-                    *o = Vec3::new(ox[l], oy[l], oz[l]);
                 }
             }
             m += LANES;
@@ -2184,7 +2178,8 @@ struct Cull<const S: usize, const L: usize> {
     #[cfg(lanes)]
     hit_dc: [[f32; DPAD]; 3],
     /// Where `culled`, each kept hit's point and offset from its sphere's centre, which the
-    /// span's bounds take and shading reuses (see [`OFFS`]).
+    /// span's bounds take and shading reuses (see [`OFFS`]); the offset only for spheres
+    /// beyond near2 (`Frame::offset_near`), whose offsets cost more than `f + t·d`.
     hit_p: [Vec3; OFFS],
     hit_o: [Vec3; OFFS],
     /// On hosts with f32 vectors (`cfg(lanes)`), the span's pixels that `Frame::shade_span4`
