@@ -427,14 +427,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let (mut done, mut px) = (0u32, [cull.miss; SPAN]);
         let mut m = 0;
         while m + 4 <= len {
-            let k0 = m;
+            // Pixels `k0..k0 + 4`, whose hits are in slots `q..q + 4`.
+            let (k0, q) = (m, cull.slot(m));
             m += 4;
             let [dx, dy, dz] = &cull.hit_dc;
-            let lanes =
-                |a: &[f32; DPAD]| -> Option<[f32; 4]> { a.get(k0..k0 + 4)?.try_into().ok() };
+            let lanes = |a: &[f32; DPAD]| -> Option<[f32; 4]> { a.get(q..q + 4)?.try_into().ok() };
             let (Some(ss), Some(ts), Some(x), Some(y), Some(z)) = (
-                cull.hit_s.get(k0..k0 + 4),
-                cull.hit_t.get(k0..k0 + 4),
+                cull.hit_s.get(q..q + 4),
+                cull.hit_t.get(q..q + 4),
                 lanes(dx),
                 lanes(dy),
                 lanes(dz),
@@ -446,10 +446,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             done |= none << k0;
             let hits = !none & 0b1111;
             if hits == 0b1111 && ss.iter().all(|&x| x == ss[0]) {
-                let colour = self.shade4::<true>(cull, k0, ss[0] as usize, hits, ts, [x, y, z]);
+                let colour = self.shade4::<true>(cull, q, ss[0] as usize, hits, ts, [x, y, z]);
                 keep4(self, &mut px, &mut done, k0, hits, colour);
             } else if hits != 0 {
-                self.shade4_mixed(cull, k0, ss, hits, ts, [x, y, z], &mut px, &mut done);
+                self.shade4_mixed(cull, (k0, q), ss, hits, ts, [x, y, z], &mut px, &mut done);
             }
         }
         cull.px = px;
@@ -467,7 +467,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     fn shade4_mixed(
         &self,
         cull: &Cull<S, L>,
-        k0: usize,
+        (k0, q): (usize, usize),
         ss: &[u16],
         hits: u32,
         ts: &[f32],
@@ -479,12 +479,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         while let Some(&s) = ss.get(todo.trailing_zeros() as usize) {
             let active = (0..4).fold(0u32, |b, l| b | ((ss.get(l) == Some(&s)) as u32) << l) & todo;
             todo &= !active;
-            let colour = self.shade4::<false>(cull, k0, s as usize, active, ts, xyz);
+            let colour = self.shade4::<false>(cull, q, s as usize, active, ts, xyz);
             keep4(self, px, done, k0, active, colour);
         }
     }
 
-    /// The colours of the lanes `active` of the span's four stored hits from slot `k0`, all on
+    /// The colours of the lanes `active` of the span's four stored hits from slot `q`, all on
     /// sphere `si` (`ts` their t, `dir` their view directions by coordinate), shaded in lanes
     /// as `shade_span4` describes; the other lanes' values are meaningless. `None` where the
     /// scalar path must shade them (a mirror, a case `shade_lit4` leaves).
@@ -493,7 +493,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     fn shade4<const ALL: bool>(
         &self,
         cull: &Cull<S, L>,
-        k0: usize,
+        q: usize,
         si: usize,
         active: u32,
         ts: &[f32],
@@ -520,7 +520,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let offset = if self.offset_near(si) {
             V::splat(k.f).add(dir.mul(t))
         } else {
-            match cull.hit_o.get(k0..k0 + 4) {
+            match cull.hit_o.get(q..q + 4) {
                 Some(o) if cull.culled => V::from_lanes([o[0], o[1], o[2], o[3]]),
                 _ => crate::geometry::hit_point_far4(dir, t, k.f, sphere)?.1,
             }
@@ -810,6 +810,22 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         cull.miss = self.encode(self.shade_from(&nowhere, None, None));
     }
 
+    /// Starts the `n` rows from `j` that a span gathers at once (`Cull::rows`): their spheres
+    /// are those whose box crosses any of them, in scene order.
+    #[cfg(lanes)]
+    fn start_tile(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
+        self.start_row(j, cull);
+        if n > 1 {
+            cull.row.clear();
+            for (s, b) in self.boxes.iter().enumerate() {
+                if (j..j + n).any(|r| b.has_row(r)) {
+                    let _ = cull.row.push(s as u16);
+                }
+            }
+        }
+        cull.rows = n;
+    }
+
     /// The pixel `(i, j)` of row `j`, pixels taken in order from `i = 0` (which starts the
     /// row with [`Frame::start_row`]).
     #[inline]
@@ -865,7 +881,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     fn span_pixel(&self, j: u32, i: u32, cull: &Cull<S, L>) -> Rgb888 {
         let shadow = if cull.culled { Some(cull) } else { None };
         let c = if cull.stored {
-            let k = (i - cull.span_start) as usize;
+            let k = cull.slot((i - cull.span_start) as usize);
             // A miss: the pixel `start_row` shaded for all of them (gather built no ray).
             let Some((t, s)) = cull.hit(k) else {
                 return cull.miss;
@@ -960,20 +976,43 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let w = self.width() as usize;
         // One set of lists for the whole band, reset row by row.
         let mut cull = Cull::new();
-        for (r, row) in buf.chunks_exact_mut(w).enumerate() {
-            let j = first_row + r as u32;
-            // Hosts: span by span, each span shaded whole by `fill_span`.
-            #[cfg(lanes)]
-            for (m, out) in row.chunks_mut(SPAN).enumerate() {
-                if m == 0 {
-                    self.start_row(j, &mut cull);
-                }
-                self.start_span(j, (m * SPAN) as u32, &mut cull);
-                for (o, &p) in out.iter_mut().zip(&cull.px) {
-                    *o = p.into();
+        // Hosts: span by span, each span shaded whole by `fill_span`, and with one sample a
+        // pixel and shadow rays `KEPT` rows at a time (a tile), whose hits the sample slots
+        // hold: one set of shadow lists for the tile's groups instead of one per row. A
+        // tile's bounds are barely larger than a row's (a span is 32 pixels wide), and the
+        // lists were a quarter of a shadowed frame's time.
+        #[cfg(lanes)]
+        {
+            let tile = if self.samples == 1 && self.shadow_rays {
+                KEPT
+            } else {
+                1
+            };
+            for (t, band) in buf.chunks_mut(w * tile).enumerate() {
+                let j = first_row + (t * tile) as u32;
+                let n = (band.len() / w) as u32;
+                self.start_tile(j, n, &mut cull);
+                for m in 0..w.div_ceil(SPAN) {
+                    let i = (m * SPAN) as u32;
+                    cull.span_start = i;
+                    cull.span_end = (i + SPAN as u32).min(self.width());
+                    self.gather(j, &mut cull);
+                    for (r, row) in band.chunks_exact_mut(w).enumerate() {
+                        cull.base = r * SPAN;
+                        self.fill_span(j + r as u32, &mut cull);
+                        let out = row.get_mut(m * SPAN..).unwrap_or(&mut []);
+                        for (o, &p) in out.iter_mut().zip(&cull.px) {
+                            *o = p.into();
+                        }
+                    }
+                    cull.base = 0;
                 }
             }
-            #[cfg(not(lanes))]
+            cull.rows = 1;
+        }
+        #[cfg(not(lanes))]
+        for (r, row) in buf.chunks_exact_mut(w).enumerate() {
+            let j = first_row + r as u32;
             for (i, px) in row.iter_mut().enumerate() {
                 *px = self.next_pixel(j, i as u32, &mut cull).into();
             }
@@ -1051,7 +1090,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// [`Frame::primary_among`], so the hits are its hits, bit for bit, while a sphere's
     /// constants and box stay in registers across its columns.
     #[inline]
-    fn trace_span(&self, i0: u32, i1: u32, ox: f32, y: f32, base: usize, cull: &mut Cull<S, L>) {
+    fn trace_span(
+        &self,
+        i0: u32,
+        i1: u32,
+        ox: f32,
+        (row, y): (u32, f32),
+        base: usize,
+        cull: &mut Cull<S, L>,
+    ) {
         // Hosts with f32 vector registers: `LANES` columns at a time, and with shadow rays the
         // hit points for the span's bounds too.
         #[cfg(lanes)]
@@ -1078,10 +1125,21 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 return;
             };
             let points = self.shadow_rays.then_some((ps, os));
-            self.trace_lanes([dx, dy, dz], ts, ss, points, &cull.span, (i0, i1, ox, y));
+            self.trace_lanes(
+                [dx, dy, dz],
+                ts,
+                ss,
+                points,
+                &cull.span,
+                (i0, i1, ox, y, row),
+            );
         }
         #[cfg(not(lanes))]
-        self.trace_scalar(i0, i1, ox, y, base, cull);
+        {
+            // One row at a time on Cortex-M: the row's spheres are the span's.
+            let _ = row;
+            self.trace_scalar(i0, i1, ox, y, base, cull);
+        }
     }
 
     /// `trace_span` one column at a time.
@@ -1154,7 +1212,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         ss: &mut [u16],
         points: Option<(&mut [Vec3], &mut [Vec3])>,
         span: &[u16],
-        (i0, i1, ox, y): (u32, u32, f32, f32),
+        (i0, i1, ox, y, row): (u32, u32, f32, f32, u32),
     ) {
         use crate::geometry::LANES;
         use crate::math::{finite, lanes::F};
@@ -1186,6 +1244,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             ) else {
                 continue;
             };
+            // A tile's span lists the spheres of all its rows; the box holds every hit.
+            if !b.has_row(row) {
+                continue;
+            }
             let lo = ((b.i0 as u32).max(i0) - i0) as usize;
             let hi = ((b.i1 as u32 + 1).min(i1).saturating_sub(i0) as usize).min(SPAN);
             if !finite(k.c) {
@@ -1417,20 +1479,23 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let (e, sphere) = (self.eye.get(s)?, spheres.get(s)?);
                 Some(hit_point_near(ray, t, e.f, sphere, self.offset_near(s)))
             };
-            for sy in 0..n {
-                let y = j as f32 + sample_offset(sy, n);
+            // Rows of a tile (hosts, one sample a pixel), or the samples of one row.
+            for rs in 0..cull.rows() * n {
+                // (Several rows come with one sample a pixel only; Cortex-M has one row.)
+                let (r, sy) = if cull.rows() == 1 { (0, rs) } else { (rs, 0) };
+                let y = (j + r) as f32 + sample_offset(sy, n);
                 for sx in 0..n {
                     let ox = sample_offset(sx, n);
-                    // The sample's slots (see `KEPT`).
+                    // The sample's slots (see `KEPT`), or the row's.
                     let base = if KEPT > 1 {
-                        (sy * n + sx) as usize * SPAN
+                        (r * n * n + sy * n + sx) as usize * SPAN
                     } else {
                         0
                     };
                     if SPHERE_MAJOR {
                         // Scratch slots where this sample's hits are not kept.
                         let base = if kept { base } else { 0 };
-                        self.trace_span(i0, i1, ox, y, base, cull);
+                        self.trace_span(i0, i1, ox, (j + r, y), base, cull);
                         if self.shadow_rays && KEEPS_OFFSETS {
                             // The points `trace_span` computed with its hits (`cfg(lanes)`), four
                             // at a time where four neighbours hit one sphere: their box, in
@@ -2191,6 +2256,13 @@ struct Cull<const S: usize, const L: usize> {
     px: [Rgb888; SPAN],
     /// The pixel of every primary ray that hits nothing.
     miss: Rgb888,
+    /// On hosts, the rows a span gathers at once (`Frame::render_rows` with one sample a
+    /// pixel and shadow rays: up to `KEPT`), row `r`'s hits in slots `r·SPAN + k`, and the
+    /// first slot of the row being shaded.
+    #[cfg(lanes)]
+    rows: u32,
+    #[cfg(lanes)]
+    base: usize,
 }
 
 impl<const S: usize, const L: usize> Cull<S, L> {
@@ -2220,7 +2292,29 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             #[cfg(lanes)]
             px: [Rgb888::new(0, 0, 0); SPAN],
             miss: Rgb888::new(0, 0, 0),
+            #[cfg(lanes)]
+            rows: 1,
+            #[cfg(lanes)]
+            base: 0,
         }
+    }
+
+    /// The rows the span gathers at once (1 on Cortex-M).
+    #[inline(always)]
+    fn rows(&self) -> u32 {
+        #[cfg(lanes)]
+        return self.rows;
+        #[cfg(not(lanes))]
+        1
+    }
+
+    /// The slot of pixel `k` of the row being shaded.
+    #[inline(always)]
+    fn slot(&self, k: usize) -> usize {
+        #[cfg(lanes)]
+        return self.base + k;
+        #[cfg(not(lanes))]
+        k
     }
 
     /// The stored primary hit of the span's pixel `k`, as `(t, sphere)`.

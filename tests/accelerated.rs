@@ -217,6 +217,54 @@ fn accelerated_equals_brute_force_with_256_spheres() {
     }
 }
 
+/// `render_rows` gathers a span's rows several at a time (with one sample a pixel and
+/// shadows): bands of any height, starting at any row, render the pixels of the whole frame,
+/// and so do the row iterator's pixels (`Frame::row`, one row at a time).
+#[test]
+fn bands_of_any_height_render_the_whole_frame() {
+    let mut scenes: Vec<(Box<Desktop>, Camera)> = vec![];
+    for path in [
+        "tests/data/lit.toml",
+        "tests/data/room.toml",
+        "bench/scenes/target.toml",
+    ] {
+        let file: Box<Desktop> = Box::new(scene_file::load(path).unwrap());
+        let camera = file.view.camera(97, 61).unwrap();
+        scenes.push((file, camera));
+    }
+    let file: Box<Desktop> =
+        Box::new(scene_file::load("bench/scenes/spread256_shadowed.toml").unwrap());
+    let camera = file.view.camera(160, 120).unwrap();
+    scenes.push((file, camera));
+    for (file, camera) in &scenes {
+        let frame = Frame::new(&file.scene, camera, file.options).unwrap();
+        let (w, h) = (camera.width() as usize, camera.height() as usize);
+        let mut whole = vec![Rgb888::new(0, 0, 0); w * h];
+        frame.render(&mut whole).unwrap();
+        let mut brute = whole.clone();
+        frame.render_rows_brute(0, &mut brute).unwrap();
+        assert!(whole == brute, "the whole frame differs from brute force");
+        for height in [1, 2, 3, 5, 7] {
+            let mut banded = vec![Rgb888::new(0, 0, 0); w * h];
+            for (b, band) in banded.chunks_mut(w * height).enumerate() {
+                assert_eq!(
+                    frame.render_rows((b * height) as u32, band),
+                    Ok((band.len() / w) as u32)
+                );
+            }
+            assert!(banded == whole, "bands of {height} rows differ");
+        }
+        // Bands that do not start on a multiple of four.
+        let mut odd = vec![Rgb888::new(0, 0, 0); w * h];
+        let (top, rest) = odd.split_at_mut(w * 3);
+        frame.render_rows(0, top).unwrap();
+        frame.render_rows(3, rest).unwrap();
+        assert!(odd == whole, "a band from row 3 differs");
+        let rows: Vec<Rgb888> = (0..h as u32).flat_map(|j| frame.row(j)).collect();
+        assert!(rows == whole, "the row iterator differs");
+    }
+}
+
 /// The comparison can fail: the frame of a slightly different scene is told apart.
 #[test]
 fn a_different_scene_is_detected() {
