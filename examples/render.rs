@@ -130,8 +130,9 @@ fn render(
 ) -> Result<(f64, Option<f64>), Failure> {
     let (w, h) = (camera.width() as usize, camera.height() as usize);
     let failed = |e: microray::Error| Failure(2, format!("--samples: {e}"));
-    // Bands of a few rows, handed out in order: short enough to balance uneven rows.
-    let band_rows = 4;
+    // Bands of a few rows, handed out in order: short enough to balance uneven rows, and as
+    // tall as the renderer's tiles (8 rows, whose shadow lists `render_rows` builds once).
+    let band_rows = 8;
     let bands = Mutex::new(image.chunks_mut(w * band_rows).enumerate());
     let done = AtomicU32::new(0);
     let finished = AtomicBool::new(false);

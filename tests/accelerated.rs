@@ -244,7 +244,7 @@ fn bands_of_any_height_render_the_whole_frame() {
         let mut brute = whole.clone();
         frame.render_rows_brute(0, &mut brute).unwrap();
         assert!(whole == brute, "the whole frame differs from brute force");
-        for height in [1, 2, 3, 5, 7] {
+        for height in [1, 2, 3, 5, 7, 8, 11] {
             let mut banded = vec![Rgb888::new(0, 0, 0); w * h];
             for (b, band) in banded.chunks_mut(w * height).enumerate() {
                 assert_eq!(
