@@ -4,7 +4,8 @@ markdown tables of docs/speed.md and draws docs/time_vs_spheres.png (stdlib only
 
     python3 bench/report.py [CRITERION_DIR] [PNG]
 
-The plot: frame time (log scale, 10 ms .. 1 s; grid at 10, 20, 50, 100, 200, 500 ms) against sphere count (log scale, 1 .. 1024) at
+The plot: frame time (log scale over the whole decades that hold the data, at least two, e.g.
+1 .. 100 ms; grid at every decade and at 2 and 5 of each) against sphere count (log scale, 1 .. 1024) at
 640x480; one colour per kind (primary blue, shaded green, shadowed red), filled squares for
 spread spheres, hollow for clustered; grid lines at every decade. The numbers are in the tables.
 """
@@ -77,15 +78,22 @@ def px(n):
     return x0 + (x1 - x0) * math.log10(n) / math.log10(1024)
 
 
+values = [v for row in data.values() for v in row if v]
+lo = math.floor(math.log10(min(values))) if values else 1
+hi = max(math.ceil(math.log10(max(values))) if values else 3, lo + 2)
+print(f"plot: frame time 10^{lo} .. 10^{hi} ms", file=sys.stderr)
+
+
 def py(ms):
-    return y0 - (y0 - y1) * (math.log10(ms) - 1) / 2  # 10 ms .. 1 s
+    return y0 - (y0 - y1) * (math.log10(ms) - lo) / (hi - lo)
 
 
 grey, black = (215, 215, 215), (0, 0, 0)
 light = (235, 235, 235)
-for ms in (20, 50, 200, 500):
-    line(x0, round(py(ms)), x1, round(py(ms)), light)
-for d in (1, 2, 3):  # 10 ms, 100 ms, 1 s
+for d in range(lo, hi):
+    for m in (2, 5):
+        line(x0, round(py(m * 10 ** d)), x1, round(py(m * 10 ** d)), light)
+for d in range(lo, hi + 1):  # every decade
     y = round(py(10 ** d))
     line(x0, y, x1, y, grey)
     line(x0 - 6, y, x0, y, black)
