@@ -501,8 +501,7 @@ impl Prepared {
     ) -> u32 {
         let (x, y, z) = (d.x.to_array(), d.y.to_array(), d.z.to_array());
         let (hit, redo) = if finite(self.c) {
-            let hb = libm::fabsf(self.c) > self.r * self.r;
-            let h = self.hit_lanes(hb, x, y, z, tmin, [tmax; LANES]);
+            let h = self.hit_lanes(self.hearn_baker(), x, y, z, tmin, [tmax; LANES]);
             (h.hit & !h.redo & ask, h.redo & ask)
         } else {
             (0, ask)
@@ -523,9 +522,16 @@ impl Prepared {
     #[cfg(lanes)]
     #[inline(always)]
     fn hit_lanes_of(&self, d: &[Vec3; 4], tmin: f32, tmax: [f32; 4]) -> LaneHits {
-        let hb = libm::fabsf(self.c) > self.r * self.r;
         let [x, y, z] = [d.map(|v| v.x), d.map(|v| v.y), d.map(|v| v.z)];
-        self.hit_lanes(hb, x, y, z, tmin, tmax)
+        self.hit_lanes(self.hearn_baker(), x, y, z, tmin, tmax)
+    }
+
+    /// The scalar test's choice of discriminant for these constants, the same for every
+    /// direction: Hearn–Baker's where `|c| > r²` (see `roots`), for the lanes' `hit_lanes`.
+    #[cfg(lanes)]
+    #[inline(always)]
+    pub(crate) fn hearn_baker(&self) -> bool {
+        libm::fabsf(self.c) > self.r * self.r
     }
 
     /// [`Prepared::hit`] with `a = d·d` and `b = f·d` already computed.

@@ -1260,7 +1260,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
                 continue;
             }
-            let hb = libm::fabsf(k.c) > k.r * k.r;
+            let hb = k.hearn_baker();
             let mut m = lo;
             while m < hi {
                 let lanes = |a: &[f32; PAD]| -> [f32; LANES] {
