@@ -487,7 +487,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The colours of the lanes `active` of the span's four stored hits from slot `q`, all on
     /// sphere `si` (`ts` their t, `dir` their view directions by coordinate), shaded in lanes
     /// as `shade_span4` describes; the other lanes' values are meaningless. `None` where the
-    /// scalar path must shade them (a mirror, a case `shade_lit4` leaves).
+    /// scalar path must shade them (a mirror, a case `shade_lit4` leaves). `ALL`: all four lanes
+    /// (the common group); a parameter so that the common group and `shade4_mixed` each get a
+    /// copy of their own, whose shadow-test closure is inlined (shared, it went out of line:
+    /// +5 x86 instructions a pixel).
     #[cfg(lanes)]
     #[inline(always)]
     fn shade4<const ALL: bool>(
@@ -803,27 +806,31 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let _ = cull.row.push(s as u16);
             }
         }
+        self.start_miss(cull);
+    }
+
+    /// [`Frame::start_row`] for the `n` rows from `j` that a span gathers at once (a tile,
+    /// `Cull::rows`): their spheres are those whose box crosses any of them.
+    #[cfg(lanes)]
+    fn start_rows(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
+        cull.row.clear();
+        for (s, b) in self.boxes.iter().enumerate() {
+            if (j..j + n).any(|r| b.has_row(r)) {
+                let _ = cull.row.push(s as u16);
+            }
+        }
+        cull.rows = n;
+        self.start_miss(cull);
+    }
+
+    /// The rest of starting rows: no span yet, and the pixel of every ray that misses.
+    #[inline(always)]
+    fn start_miss(&self, cull: &mut Cull<S, L>) {
         cull.span_end = 0;
         // A miss shows the background, whatever its ray: one pixel for all of them. Shaded
         // here, on the render path's stack, rather than in `Frame::new` (set-up's).
         let nowhere = Ray::new(self.camera.eye(), Vec3::ZERO);
         cull.miss = self.encode(self.shade_from(&nowhere, None, None));
-    }
-
-    /// Starts the `n` rows from `j` that a span gathers at once (`Cull::rows`): their spheres
-    /// are those whose box crosses any of them, in scene order.
-    #[cfg(lanes)]
-    fn start_tile(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
-        self.start_row(j, cull);
-        if n > 1 {
-            cull.row.clear();
-            for (s, b) in self.boxes.iter().enumerate() {
-                if (j..j + n).any(|r| b.has_row(r)) {
-                    let _ = cull.row.push(s as u16);
-                }
-            }
-        }
-        cull.rows = n;
     }
 
     /// The pixel `(i, j)` of row `j`, pixels taken in order from `i = 0` (which starts the
@@ -991,7 +998,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             for (t, band) in buf.chunks_mut(w * tile).enumerate() {
                 let j = first_row + (t * tile) as u32;
                 let n = (band.len() / w) as u32;
-                self.start_tile(j, n, &mut cull);
+                self.start_rows(j, n, &mut cull);
                 for m in 0..w.div_ceil(SPAN) {
                     let i = (m * SPAN) as u32;
                     cull.span_start = i;
@@ -1005,10 +1012,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                             *o = p.into();
                         }
                     }
-                    cull.base = 0;
                 }
             }
-            cull.rows = 1;
         }
         #[cfg(not(lanes))]
         for (r, row) in buf.chunks_exact_mut(w).enumerate() {
@@ -1955,9 +1960,14 @@ impl<const S: usize> Sweep<S> {
 
     /// The index of the first key ≥ `x` (`key.partition_point(|&k| k < x)`), searched in
     /// `x`'s bucket only.
-    #[inline(always)]
+    #[cfg(test)]
     fn first(&self, x: f32) -> usize {
-        let b = self.bucket(x);
+        self.first_in(self.bucket(x), x)
+    }
+
+    /// [`Sweep::first`] of `x` in its bucket `b`.
+    #[inline(always)]
+    fn first_in(&self, b: usize, x: f32) -> usize {
         let (lo, hi) = (self.start.get(b), self.start.get(b + 1));
         let (lo, hi) = (
             lo.map_or(0, |&i| i as usize),
@@ -1977,7 +1987,7 @@ impl<const S: usize> Sweep<S> {
         let b = self.bucket(x);
         match (self.start.get(b), self.start.get(b + 1)) {
             (Some(&lo), Some(&hi)) if hi - lo <= 8 => lo as usize,
-            _ => self.first(x),
+            _ => self.first_in(b, x),
         }
     }
 
