@@ -1726,8 +1726,9 @@ const DIRS: usize = if cfg!(all(target_arch = "arm", not(target_abi = "eabihf"))
 /// that it is not traced twice (once for the span's bounds, once to shade; up to 2×2), or with
 /// one sample the rows of a tile (`Frame::render_rows`: 8 rows measured 1.045× faster than 4 on
 /// the target scene, 16 no faster than 8). One on Arm, whose render stack (2 KiB on the
-/// firmware) has no room for 54 more bytes a pixel.
-const KEPT: usize = if cfg!(target_arch = "arm") { 1 } else { 8 };
+/// firmware) has no room for 54 more bytes a pixel; one wherever there are no lanes, so that a
+/// host built without them (`MICRORAY_NO_LANES`, see build.rs) takes Cortex-M's path.
+const KEPT: usize = if cfg!(lanes) { 8 } else { 1 };
 /// `DIRS` and the lanes read past the last slot (`Cull::hit_dc`).
 #[cfg(lanes)]
 const DPAD: usize = DIRS + crate::geometry::LANES - 1;
