@@ -211,7 +211,41 @@ fn c_near_xyz<const OFFSET: bool>(
     mz: f32,
     radius: f32,
 ) -> f32 {
+    #[cfg(lanes)]
+    return c_near_across::<OFFSET>([bx, by, bz], [ox, oy, oz], [mx, my, mz], radius);
+    #[cfg(not(lanes))]
     c_near_of::<f32, OFFSET>([bx, by, bz], [ox, oy, oz], [mx, my, mz], radius)
+}
+
+/// [`c_near_of`] for one origin with the coordinates in vector lanes (hosts, `cfg(lanes)`): the
+/// per-coordinate pieces (the sums' errors, the squares and their errors) in lanes 0–2 and the
+/// radius's square in lane 3, then the running sum over the coordinates in `c_near_of`'s order.
+/// The same operations on the same values, so the same bits, in 93 x86-64 instructions instead
+/// of 162 (91 instead of 133 without an offset).
+#[cfg(lanes)]
+#[inline(always)]
+fn c_near_across<const OFFSET: bool>(b: [f32; 3], o: [f32; 3], m: [f32; 3], radius: f32) -> f32 {
+    use crate::math::lanes::F;
+    let lanes = |v: [f32; 3], w: f32| F::from([v[0], v[1], v[2], w]);
+    // Lane 3: `radius − 0 (+ 0)`, which is `radius` with no error, squared as `c_near_of`
+    // squares it.
+    let (g, gl) = two_sum_of(lanes(b, radius), lanes(m, 0.0).flip());
+    let (h, e) = if OFFSET {
+        two_sum_of(g, lanes(o, 0.0))
+    } else {
+        (g + F::splat(0.0), F::splat(0.0))
+    };
+    let l = gl + e;
+    let (p, ep) = two_square_of(h);
+    let q = l * (F::splat(2.0) * h + l);
+    let (p, ep, q) = (p.to_array(), ep.to_array(), q.to_array());
+    let (mut big, mut small) = (-p[3], -ep[3]);
+    for k in 0..3 {
+        let (sum, t) = two_sum_of(big, p[k]);
+        big = sum;
+        small += (t + ep[k]) + q[k];
+    }
+    big + small
 }
 
 /// [`c_near_xyz`]'s operations on any [`Ieee`] type (one f32, or four lanes on hosts).
@@ -1229,6 +1263,54 @@ mod lane_tests {
         fn decades(&mut self, lo: i32, hi: i32) -> Vec3 {
             Vec3::new(self.mag(lo, hi), self.mag(lo, hi), self.mag(lo, hi))
         }
+    }
+
+    /// `c_near_across` (coordinates in lanes) is `c_near_of` on scalars, bit for bit, with and
+    /// without an offset: origins on, near and far from spheres of every size, coordinates
+    /// where the squares overflow, zeros, infinities and NaNs.
+    #[test]
+    fn c_across_lanes_is_the_scalar_c() {
+        let mut g = TestRng(0x1319_8a2e_0370_7344);
+        let special = [0.0, -0.0, f32::INFINITY, f32::NAN, 3e19, f32::MIN_POSITIVE];
+        let bits = |x: f32| if x.is_nan() { u32::MAX } else { x.to_bits() };
+        let mut cancelled = 0;
+        for case in 0..200_000u32 {
+            let r = g.mag(-4, 7).abs();
+            let m = g.decades(-4, 7);
+            let offset = Vec3::new(r, 0.0, 0.0) * (1.0 + 1e-3 * (g.unit() - 0.5));
+            let (mut b, mut o) = match case % 3 {
+                0 => (m + g.decades(-3, 1) * r, offset),
+                1 => (g.decades(-4, 7), g.decades(-4, 3)),
+                _ => (m - offset, offset),
+            };
+            let mut m = [m.x, m.y, m.z];
+            let mut r = r;
+            if case % 64 == 7 {
+                let v = special[(case / 64) as usize % special.len()];
+                match (case / 7) % 4 {
+                    0 => b.y = v,
+                    1 => o.z = v,
+                    2 => m[0] = v,
+                    _ => r = v,
+                }
+            }
+            let (b, o) = ([b.x, b.y, b.z], [o.x, o.y, o.z]);
+            let scalar = c_near_of::<f32, true>(b, o, m, r);
+            assert_eq!(
+                bits(c_near_across::<true>(b, o, m, r)),
+                bits(scalar),
+                "case {case}"
+            );
+            let plain = c_near_of::<f32, false>(b, [0.0; 3], m, r);
+            let across = c_near_across::<false>(b, [0.0; 3], m, r);
+            assert_eq!(bits(across), bits(plain), "case {case}, no offset");
+            let (f, rr) = (Vec3::from(b) - Vec3::from(m) + Vec3::from(o), r * r);
+            cancelled += (libm::fabsf(f.dot(f) - rr) < 1e-3 * (f.dot(f) + rr)) as u32;
+        }
+        assert!(
+            cancelled > 2_000,
+            "{cancelled} cases where the f32 c cancels"
+        );
     }
 
     /// `hit_bits4` answers as the scalar `hit` does for every asked lane and leaves the others
