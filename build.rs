@@ -1,20 +1,33 @@
 //! Sets `cfg(lanes)` on targets with f32 vector registers (x86-64, AArch64 with NEON), where
-//! the renderer traces primary rays several columns at a time. Cargo.toml names the same
-//! targets for the `wide` dependency, which cannot use this cfg.
+//! the renderer traces primary rays several columns at a time, and `cfg(no_dirs)` on soft-float
+//! Arm (Cortex-M0), whose spans keep no view directions. Cargo.toml names the same targets for
+//! the `wide` dependency, which cannot use these cfgs.
+//!
+//! `MICRORAY_HOST_AS=m4f` (or `m0`) builds the host as that Cortex-M's render path runs: no
+//! lanes (and for `m0` no kept directions), so that the host's tests check those paths' pixels
+//! on every scene; CI does both (the firmware's CRC checks one scene on each board).
 fn main() {
-    println!("cargo::rustc-check-cfg=cfg(lanes)");
+    println!("cargo::rustc-check-cfg=cfg(lanes, no_dirs)");
     println!("cargo::rerun-if-changed=build.rs");
-    // `MICRORAY_NO_LANES=1`: the scalar path, as Cortex-M runs it, on the host too, so that the
-    // host's tests check that path's pixels on every scene (CI does; the firmware's CRC checks
-    // one scene).
-    println!("cargo::rerun-if-env-changed=MICRORAY_NO_LANES");
-    if std::env::var_os("MICRORAY_NO_LANES").is_some_and(|v| !v.is_empty() && v != "0") {
-        return;
-    }
-    let arch = std::env::var("CARGO_CFG_TARGET_ARCH").unwrap_or_default();
-    let features = std::env::var("CARGO_CFG_TARGET_FEATURE").unwrap_or_default();
-    let neon = features.split(',').any(|f| f == "neon");
-    if arch == "x86_64" || (arch == "aarch64" && neon) {
+    println!("cargo::rerun-if-env-changed=MICRORAY_HOST_AS");
+    let env = |k: &str| std::env::var(k).unwrap_or_default();
+    let (arch, abi) = (env("CARGO_CFG_TARGET_ARCH"), env("CARGO_CFG_TARGET_ABI"));
+    let neon = env("CARGO_CFG_TARGET_FEATURE")
+        .split(',')
+        .any(|f| f == "neon");
+    let (lanes, no_dirs) = match env("MICRORAY_HOST_AS").as_str() {
+        "m4f" => (false, false),
+        "m0" => (false, true),
+        "" => (
+            arch == "x86_64" || (arch == "aarch64" && neon),
+            arch == "arm" && abi != "eabihf",
+        ),
+        other => panic!("MICRORAY_HOST_AS={other}: expected m4f or m0"),
+    };
+    if lanes {
         println!("cargo::rustc-cfg=lanes");
+    }
+    if no_dirs {
+        println!("cargo::rustc-cfg=no_dirs");
     }
 }
