@@ -143,7 +143,8 @@ impl Camera {
         [self.sx, self.ox, self.sy, self.oy]
     }
 
-    /// The unnormalised direction `w + px·u + py·v` through image point `(x, y)`.
+    /// The unnormalised direction `(w + py·v) + px·u` through image point `(x, y)`: summed in
+    /// that order so that a row's `w + py·v` is one vector for all its columns.
     ///
     /// ```
     /// # use microray::{Camera, Vec3};
@@ -154,9 +155,22 @@ impl Camera {
     /// ```
     #[inline]
     pub fn direction(&self, x: f32, y: f32) -> Vec3 {
-        let px = x * self.sx - self.ox;
+        self.row(y).direction(x)
+    }
+
+    /// What [`Camera::direction`] at `y` shares across `x`: for loops along a row, which keep
+    /// these four values in registers (read through `&self`, the camera's fields were loaded
+    /// again for every column: the compiler could not tell that the row's stores leave them).
+    #[inline]
+    pub(crate) fn row(&self, y: f32) -> RowRays {
         let py = self.oy - y * self.sy;
-        self.w + self.u * px + self.v * py
+        RowRays {
+            eye: self.eye,
+            base: self.w + self.v * py,
+            u: self.u,
+            sx: self.sx,
+            ox: self.ox,
+        }
     }
 
     /// The primary ray through image point `(x, y)` (pixel (i, j) spans `[i, i+1) × [j, j+1)`),
@@ -183,8 +197,8 @@ impl Camera {
         let px = F::from(x) * F::splat(self.sx) - F::splat(self.ox);
         let py = F::splat(self.oy - y * self.sy);
         let (u, v, w) = (self.u, self.v, self.w);
-        // `(w + u·px) + v·py`, `direction`'s association.
-        let axis = |w: f32, u: f32, v: f32| F::splat(w) + F::splat(u) * px + F::splat(v) * py;
+        // `(w + v·py) + u·px`, `direction`'s association.
+        let axis = |w: f32, u: f32, v: f32| (F::splat(w) + F::splat(v) * py) + F::splat(u) * px;
         let (dx, dy, dz) = (
             axis(w.x, u.x, v.x),
             axis(w.y, u.y, v.y),
@@ -214,6 +228,30 @@ impl Camera {
             i as f32 + sample_offset(sx, samples),
             j as f32 + sample_offset(sy, samples),
         )
+    }
+}
+
+/// [`Camera::direction`] and [`Camera::ray`] along one row (see [`Camera::row`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RowRays {
+    eye: Vec3,
+    base: Vec3,
+    u: Vec3,
+    sx: f32,
+    ox: f32,
+}
+
+impl RowRays {
+    /// [`Camera::direction`]`(x, y)`, the same bits.
+    #[inline(always)]
+    pub(crate) fn direction(&self, x: f32) -> Vec3 {
+        self.base + self.u * (x * self.sx - self.ox)
+    }
+
+    /// [`Camera::ray`]`(x, y)`, the same bits.
+    #[inline(always)]
+    pub(crate) fn ray(&self, x: f32) -> Ray {
+        Ray::new(self.eye, self.direction(x).normalize_fast())
     }
 }
 

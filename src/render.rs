@@ -1159,13 +1159,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         ) else {
             return;
         };
+        let row = self.camera.row(y);
         for ((d, t), (s, i)) in dirs
             .iter_mut()
             .zip(ts.iter_mut())
             .zip(ss.iter_mut().zip(i0..))
         {
             // `view_ray(i, j, sx, sy, n)`, the same bits.
-            *d = self.camera.ray(i as f32 + ox, y).dir;
+            *d = row.ray(i as f32 + ox).dir;
             *t = f32::INFINITY;
             *s = NONE;
         }
@@ -1542,10 +1543,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         continue;
                     }
                     // Pixel by pixel (soft-float Arm, see `SPHERE_MAJOR`).
+                    let row = self.camera.row(y);
                     for (k, i) in (i0..i1).enumerate() {
                         let slot = base + k;
                         // `view_ray(i, j, sx, sy, n)`, the same bits.
-                        let ray = self.camera.ray(i as f32 + ox, y);
+                        let ray = row.ray(i as f32 + ox);
                         let h = self.primary_among(&ray, i, &cull.span);
                         if let Some((t, s)) = h {
                             if self.shadow_rays {
