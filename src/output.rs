@@ -47,7 +47,9 @@ pub fn dither_rgb565(c: Rgb888, x: u32, y: u32) -> Rgb565 {
 impl<const S: usize, const L: usize> Frame<'_, S, L> {
     /// Draws the frame onto an embedded-graphics display (or any [`DrawTarget`]) whose colour
     /// converts from [`Rgb888`], such as an `Rgb565` panel. Each row is traced as the display
-    /// consumes it through `fill_contiguous`: no frame or row buffer is needed.
+    /// consumes it through `fill_contiguous`, rows from the top: no frame or row buffer is
+    /// needed. (On hosts [`Frame::render_rows`] is ~1.25× faster: it shares each span's shadow
+    /// lists between 8 rows, which a row-by-row stream cannot.)
     ///
     /// ```
     /// use embedded_graphics::{mock_display::MockDisplay, pixelcolor::Rgb565};
@@ -103,6 +105,17 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
         if first_row as usize + rows > self.height() as usize {
             return Err(Error::BufferSize);
         }
+        // Hosts: tile by tile, as `render_rows` traces them.
+        #[cfg(lanes)]
+        let _ = self.tile_rows(first_row, rows as u32, |t| {
+            let at = (t.j - first_row) as usize * w + t.i as usize;
+            let out = buf.get_mut(at..).unwrap_or(&mut []);
+            for (k, (o, &c)) in out.iter_mut().zip(t.px).enumerate() {
+                *o = dither_rgb565(c, t.i + k as u32, t.j);
+            }
+            Ok::<(), core::convert::Infallible>(())
+        });
+        #[cfg(not(lanes))]
         for (r, row) in buf.chunks_exact_mut(w).enumerate() {
             let j = first_row + r as u32;
             // Traced row by row with the renderer's culling (the same pixels as `pixel`).

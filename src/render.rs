@@ -981,48 +981,69 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     ) -> Result<u32, Error> {
         let rows = self.check_rows(first_row, buf.len())?;
         let w = self.width() as usize;
-        // One `Cull` for the whole band, reset tile by tile.
-        let mut cull = Cull::new();
-        // Hosts: span by span, each span shaded whole by `fill_span`, and with one sample a
-        // pixel and shadow rays `KEPT` (8) rows at a time (a tile), whose hits the sample slots
-        // hold: one set of shadow lists for the tile's groups instead of one per row. A
-        // tile's bounds are barely larger than a row's (a span is 32 pixels wide), and the
-        // lists were a quarter of a shadowed frame's time.
+        // Hosts: tile by tile (`tile_rows`).
         #[cfg(lanes)]
+        let _ = self.tile_rows(first_row, rows, |t: TileRow<'_>| {
+            let at = (t.j - first_row) as usize * w + t.i as usize;
+            let out = buf.get_mut(at..).unwrap_or(&mut []);
+            for (o, &p) in out.iter_mut().zip(t.px) {
+                *o = p.into();
+            }
+            Ok::<(), core::convert::Infallible>(())
+        });
+        // Cortex-M: row by row, as `Row` does.
+        #[cfg(not(lanes))]
         {
-            let tile = if self.samples == 1 && self.shadow_rays {
-                KEPT
-            } else {
-                1
-            };
-            for (t, band) in buf.chunks_mut(w * tile).enumerate() {
-                let j = first_row + (t * tile) as u32;
-                let n = (band.len() / w) as u32;
-                self.start_rows(j, n, &mut cull);
-                for m in 0..w.div_ceil(SPAN) {
-                    let i = (m * SPAN) as u32;
-                    cull.span_start = i;
-                    cull.span_end = (i + SPAN as u32).min(self.width());
-                    self.gather(j, &mut cull);
-                    for (r, row) in band.chunks_exact_mut(w).enumerate() {
-                        cull.base = r * SPAN;
-                        self.fill_span(j + r as u32, &mut cull);
-                        let out = row.get_mut(m * SPAN..).unwrap_or(&mut []);
-                        for (o, &p) in out.iter_mut().zip(&cull.px) {
-                            *o = p.into();
-                        }
-                    }
+            let mut cull = Cull::new();
+            for (r, row) in buf.chunks_exact_mut(w).enumerate() {
+                let j = first_row + r as u32;
+                for (i, px) in row.iter_mut().enumerate() {
+                    *px = self.next_pixel(j, i as u32, &mut cull).into();
                 }
             }
         }
-        #[cfg(not(lanes))]
-        for (r, row) in buf.chunks_exact_mut(w).enumerate() {
-            let j = first_row + r as u32;
-            for (i, px) in row.iter_mut().enumerate() {
-                *px = self.next_pixel(j, i as u32, &mut cull).into();
-            }
-        }
         Ok(rows)
+    }
+
+    /// Rows `first ..first + n` as hosts trace them: span by span, each span shaded whole by
+    /// `fill_span`, and with one sample a pixel and shadow rays `KEPT` (8) rows at a time (a
+    /// tile), whose hits the sample slots hold: one set of shadow lists for the tile's groups
+    /// instead of one per row. A tile's bounds are barely larger than a row's (a span is 32
+    /// pixels wide), and the lists were a quarter of a shadowed frame's time. `out` gets each
+    /// row of each span of each tile in turn; its first error ends it.
+    #[cfg(lanes)]
+    pub(crate) fn tile_rows<E>(
+        &self,
+        first: u32,
+        n: u32,
+        mut out: impl FnMut(TileRow<'_>) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let tile = if self.samples == 1 && self.shadow_rays {
+            KEPT as u32
+        } else {
+            1
+        };
+        let end = (first + n).min(self.height());
+        let mut cull = Cull::new();
+        let mut j = first;
+        while j < end {
+            let rows = tile.min(end - j);
+            self.start_rows(j, rows, &mut cull);
+            for m in 0..self.width().div_ceil(SPAN as u32) {
+                let i = m * SPAN as u32;
+                cull.span_start = i;
+                cull.span_end = (i + SPAN as u32).min(self.width());
+                self.gather(j, &mut cull);
+                for r in 0..rows {
+                    cull.base = r as usize * SPAN;
+                    self.fill_span(j + r, &mut cull);
+                    let px = cull.px.get(..cull.span_len()).unwrap_or(&[]);
+                    out(TileRow { i, j: j + r, px })?;
+                }
+            }
+            j += rows;
+        }
+        Ok(())
     }
 
     /// [`Frame::render_rows`] the brute-force way, every ray against every sphere: the
@@ -2410,6 +2431,14 @@ impl<'c, const L: usize> Lists<'c, L> {
         // `ALL` has a > b: no slice.
         self.pool.get(a as usize..b as usize)
     }
+}
+
+/// One row of one span of a tile (see [`Frame::tile_rows`]): the pixels `(i.., j)`.
+#[cfg(lanes)]
+pub(crate) struct TileRow<'p> {
+    pub(crate) i: u32,
+    pub(crate) j: u32,
+    pub(crate) px: &'p [Rgb888],
 }
 
 /// The pixels of one row, traced span by span (see [`Frame::row`]).

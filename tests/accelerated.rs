@@ -29,7 +29,8 @@ impl Draw for Rng {
 }
 
 use common::rng::Rng;
-use embedded_graphics::pixelcolor::Rgb888;
+use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
+use microray::output::dither_rgb565;
 use microray::scene_file::{self, Desktop};
 use microray::{
     Camera, Color, Frame, Light, Material, Prepared, RenderOptions, Scene, Sphere, Vec3,
@@ -262,6 +263,19 @@ fn bands_of_any_height_render_the_whole_frame() {
         assert!(odd == whole, "a band from row 3 differs");
         let rows: Vec<Rgb888> = (0..h as u32).flat_map(|j| frame.row(j)).collect();
         assert!(rows == whole, "the row iterator differs");
+        // The dithered bands are the dithered pixels, whatever the band's height.
+        let dithered: Vec<Rgb565> = (0..w * h)
+            .map(|k| dither_rgb565(whole[k], (k % w) as u32, (k / w) as u32))
+            .collect();
+        for height in [1, 3, 8, 13] {
+            let mut banded = vec![Rgb565::new(0, 0, 0); w * h];
+            for (b, band) in banded.chunks_mut(w * height).enumerate() {
+                frame
+                    .render_rows_dithered((b * height) as u32, band)
+                    .unwrap();
+            }
+            assert!(banded == dithered, "dithered bands of {height} rows differ");
+        }
     }
 }
 
