@@ -188,8 +188,8 @@ impl Camera {
         Ray::new(self.eye, self.direction(x, y).normalize_fast())
     }
 
-    /// `ray(x[l], y).dir` for four image points of one row, in vector lanes (`cfg(lanes)`):
-    /// `direction`'s operations and `normalize_fast`'s, lane by lane, so the same bits.
+    /// `direction(x[l], y)` for four image points of one row, in vector lanes (`cfg(lanes)`):
+    /// `direction`'s operations lane by lane, so the same bits.
     #[cfg(lanes)]
     #[inline(always)]
     pub(crate) fn directions4(&self, x: [f32; 4], y: f32) -> [[f32; 4]; 3] {
@@ -199,17 +199,23 @@ impl Camera {
         let (u, v, w) = (self.u, self.v, self.w);
         // `(w + v·py) + u·px`, `direction`'s association.
         let axis = |w: f32, u: f32, v: f32| (F::splat(w) + F::splat(v) * py) + F::splat(u) * px;
-        let (dx, dy, dz) = (
-            axis(w.x, u.x, v.x),
-            axis(w.y, u.y, v.y),
-            axis(w.z, u.z, v.z),
-        );
-        let len = (dx * dx + dy * dy + dz * dz).sqrt();
         [
-            (dx / len).to_array(),
-            (dy / len).to_array(),
-            (dz / len).to_array(),
+            axis(w.x, u.x, v.x).to_array(),
+            axis(w.y, u.y, v.y).to_array(),
+            axis(w.z, u.z, v.z).to_array(),
         ]
+    }
+
+    /// The renderer's ray for sample `(sx, sy)` of pixel `(i, j)`: [`Camera::view_ray`]'s, with
+    /// the direction [`Camera::direction`] left unnormalised. Every test and shading step takes
+    /// a direction of any length, so a primary ray needs no square root and three divides.
+    #[inline]
+    pub(crate) fn primary_ray(&self, i: u32, j: u32, sx: u32, sy: u32, samples: u32) -> Ray {
+        let (x, y) = (
+            i as f32 + sample_offset(sx, samples),
+            j as f32 + sample_offset(sy, samples),
+        );
+        Ray::new(self.eye, self.direction(x, y))
     }
 
     /// The ray for sample `(sx, sy)` of an `samples`×`samples` grid in pixel `(i, j)`: the
@@ -248,10 +254,10 @@ impl RowRays {
         self.base + self.u * (x * self.sx - self.ox)
     }
 
-    /// [`Camera::ray`]`(x, y)`, the same bits.
+    /// [`Camera::primary_ray`] at `x`: the eye and [`Camera::direction`]`(x, y)`.
     #[inline(always)]
     pub(crate) fn ray(&self, x: f32) -> Ray {
-        Ray::new(self.eye, self.direction(x).normalize_fast())
+        Ray::new(self.eye, self.direction(x))
     }
 }
 
@@ -267,7 +273,7 @@ pub(crate) fn sample_offset(s: u32, samples: u32) -> f32 {
 mod tests {
     use super::*;
 
-    /// `directions4` is `ray(x, y).dir`, bit for bit, lane by lane, for cameras of every
+    /// `directions4` is `direction(x, y)`, bit for bit, lane by lane, for cameras of every
     /// orientation, field of view and image size, at pixel centres and supersample offsets.
     #[test]
     fn lane_directions_are_the_scalar_ones() {
@@ -287,7 +293,7 @@ mod tests {
             let x = [x0, x0 + 1.0, x0 + 2.25, x0 + 3.0];
             let lanes = cam.directions4(x, y);
             for (l, &x) in x.iter().enumerate() {
-                let d = cam.ray(x, y).dir;
+                let d = cam.direction(x, y);
                 let lane = Vec3::new(lanes[0][l], lanes[1][l], lanes[2][l]);
                 assert_eq!(lane.x.to_bits(), d.x.to_bits(), "{cam:?} ({x}, {y})");
                 assert_eq!(lane.y.to_bits(), d.y.to_bits(), "{cam:?} ({x}, {y})");

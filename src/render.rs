@@ -713,7 +713,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let mut sum = Color::ZERO;
         for sy in 0..n {
             for sx in 0..n {
-                let c = f(&self.camera.view_ray(i, j, sx, sy, n));
+                let c = f(&self.camera.primary_ray(i, j, sx, sy, n));
                 if n == 1 {
                     return c;
                 }
@@ -895,7 +895,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             };
             let ray = match cull.dir(k) {
                 Some(dir) => Ray::new(self.camera.eye(), dir),
-                None => self.camera.view_ray(i, j, 0, 0, 1),
+                None => self.camera.primary_ray(i, j, 0, 0, 1),
             };
             // The hit record from (t, sphere): `make_hit` is a pure function of them.
             let first = if KEEPS_OFFSETS && SPHERE_MAJOR {
@@ -943,7 +943,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             Some(dir) => Ray::new(self.camera.eye(), dir),
             None => {
                 let (n, m) = (self.samples, (slot / SPAN) as u32);
-                self.camera.view_ray(i, j, m % n, m / n, n)
+                self.camera.primary_ray(i, j, m % n, m / n, n)
             }
         };
         let first = if KEEPS_OFFSETS && SPHERE_MAJOR {
@@ -1186,7 +1186,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             .zip(ts.iter_mut())
             .zip(ss.iter_mut().zip(i0..))
         {
-            // `view_ray(i, j, sx, sy, n)`, the same bits.
+            // `primary_ray(i, j, sx, sy, n)`, the same bits.
             *d = row.ray(i as f32 + ox).dir;
             *t = f32::INFINITY;
             *s = NONE;
@@ -1247,7 +1247,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let len = ts.len().min(SPAN);
         let lane = F::from(core::array::from_fn(|l| l as f32));
         for m in (0..len).step_by(LANES) {
-            // `view_ray(i, j, sx, sy, n)`: pixel column i at `i + ox`. Columns (below
+            // `primary_ray(i, j, sx, sy, n)`: pixel column i at `i + ox`. Columns (below
             // `MAX_SIZE` + `LANES`) are exact in f32, so the lanes' `(i0 + m) + l` is each
             // column converted, in one conversion instead of four.
             let x = F::splat((i0 + m as u32) as f32) + lane;
@@ -1499,7 +1499,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         } else {
             // Every sample's hit joins the bounds; the hits are also kept for shading where
             // there is room (`KEPT`), the samples outermost so that their offsets (the divides
-            // of `Camera::view_ray`) are hoisted.
+            // of `Camera::primary_ray`) are hoisted.
             let n = self.samples;
             // The point of `make_hit`, without the rest of the hit record, joins the bounds.
             let point = |ray: &Ray, t: f32, s: usize| {
@@ -1567,7 +1567,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     let row = self.camera.row(y);
                     for (k, i) in (i0..i1).enumerate() {
                         let slot = base + k;
-                        // `view_ray(i, j, sx, sy, n)`, the same bits.
+                        // `primary_ray(i, j, sx, sy, n)`, the same bits.
                         let ray = row.ray(i as f32 + ox);
                         let h = self.primary_among(&ray, i, &cull.span);
                         if let Some((t, s)) = h {

@@ -33,7 +33,7 @@ use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
 use microray::output::dither_rgb565;
 use microray::scene_file::{self, Desktop};
 use microray::{
-    Camera, Color, Frame, Light, Material, Prepared, RenderOptions, Scene, Sphere, Vec3,
+    Camera, Color, Frame, Light, Material, Prepared, Ray, RenderOptions, Scene, Sphere, Vec3,
 };
 
 /// Renders with both paths and reports the first differing pixel.
@@ -400,7 +400,17 @@ fn screen_boxes_hold_every_hit() {
                     let rays = (0..9)
                         .map(|q| camera.view_ray(i, j, q % 3, q / 3, 3))
                         .chain([camera.view_ray(i, j, 0, 0, 1)]);
-                    for ray in rays {
+                    // The renderer's own primary rays: the same points, the direction not
+                    // normalised (`Camera::direction`).
+                    let (x, y) = (i as f32, j as f32);
+                    let raw = (0..9)
+                        .map(|q| {
+                            let (a, b) = ((q % 3) as f32, (q / 3) as f32);
+                            camera.direction(x + (a + 0.5) / 3.0, y + (b + 0.5) / 3.0)
+                        })
+                        .chain([camera.direction(x + 0.5, y + 0.5)])
+                        .map(|d| Ray::new(camera.eye(), d));
+                    for ray in rays.chain(raw) {
                         tested += 1;
                         if k.hit(ray.dir, f32::MIN_POSITIVE, f32::INFINITY).is_some() {
                             hits += 1;
