@@ -582,17 +582,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
     }
 
-    /// Shades a primary hit (and its mirror bounces): `shadow`, when given, holds per light
-    /// the spheres that can block shadow rays from this primary hit; mirror hits and a
-    /// missing `shadow` test every sphere.
+    /// Shades a primary hit (and its mirror bounces): `lists`, when given, holds per light
+    /// the spheres that can block shadow rays from this primary hit; mirror hits and missing
+    /// `lists` test every sphere.
     #[inline]
-    fn shade_from(&self, ray: &Ray, first: Option<Hit>, shadow: Option<&Cull<S, L>>) -> Color {
+    fn shade_from(&self, ray: &Ray, first: Option<Hit>, lists: Option<Lists<'_, L>>) -> Color {
         let scene = self.scene;
         let mut primary = true;
         follow(scene, ray, first, |hit, ray| {
-            // The primary hit's group is found once, for all lights.
             let lists = if core::mem::replace(&mut primary, false) {
-                shadow.and_then(|c| c.lists(hit.sphere))
+                lists
             } else {
                 None
             };
@@ -886,7 +885,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Pixel `(i, j)` of the span gathered in `cull`, shaded on its own.
     #[inline(always)]
     fn span_pixel(&self, j: u32, i: u32, cull: &Cull<S, L>) -> Rgb888 {
-        let shadow = if cull.culled { Some(cull) } else { None };
         let c = if cull.stored {
             let k = cull.slot((i - cull.span_start) as usize);
             // A miss: the pixel `start_row` shaded for all of them (gather built no ray).
@@ -903,7 +901,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             } else {
                 self.eye_hit(&ray, t, s as usize)
             };
-            self.shade_from(&ray, first, shadow)
+            self.shade_from(&ray, first, cull.lists_at(k))
         } else if KEPT > 1 && cull.kept {
             let k = (i - cull.span_start) as usize;
             // `average`'s sum, in its order, of the samples' kept hits (slot `m·SPAN + k`).
@@ -912,7 +910,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             for m in 0..n * n {
                 let slot = m as usize * SPAN + k;
                 sum += match cull.hit(slot) {
-                    Some(h) => self.shade_kept(i, j, slot, h, shadow, cull),
+                    Some(h) => self.shade_kept(i, j, slot, h, cull),
                     // What `shade_from` gives a ray that hits nothing.
                     None => self.scene.background(),
                 };
@@ -920,7 +918,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             sum / (n * n) as f32
         } else {
             self.average(i, j, |ray| {
-                self.shade_from(ray, self.primary_hit_among(ray, i, &cull.span), shadow)
+                let hit = self.primary_hit_among(ray, i, &cull.span);
+                let lists = hit.as_ref().and_then(|h| cull.lists(h.sphere));
+                self.shade_from(ray, hit, lists)
             })
         };
         self.encode(c)
@@ -936,7 +936,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         j: u32,
         slot: usize,
         (t, s): (f32, u16),
-        shadow: Option<&Cull<S, L>>,
         cull: &Cull<S, L>,
     ) -> Color {
         let ray = match cull.dir(slot) {
@@ -951,7 +950,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         } else {
             self.eye_hit(&ray, t, s as usize)
         };
-        self.shade_from(&ray, first, shadow)
+        self.shade_from(&ray, first, cull.lists_at(slot))
     }
 
     /// Renders rows `first_row ..` into `buf`, which holds a whole number of rows; returns how
@@ -1453,7 +1452,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // and neighbouring pixels mostly hit the same sphere.
         let mut last = (usize::MAX, 0);
         // The box `(lo, hi)` (a point, or several points' box) joins sphere `sphere`'s group.
-        let mut extend = |sphere: usize, (p_lo, p_hi): (Vec3, Vec3)| {
+        let mut extend = |sphere: usize, (p_lo, p_hi): (Vec3, Vec3)| -> u8 {
             let g = if sphere == last.0 {
                 last.1
             } else {
@@ -1490,7 +1489,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     }
                 }
             }
+            g as u8
         };
+        // Slots whose hit joins no group (a miss, or no point) get no lists: every sphere.
+        cull.hit_g.fill(NO_GROUP);
         if self.samples == 1 && cull.span.is_empty() {
             // No sphere's box meets the span (the sky above the scene): every ray misses, and
             // none needs building.
@@ -1539,14 +1541,20 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                     })
                                     .flatten();
                                 if let Some((s, b)) = four {
-                                    extend(s as usize, b);
+                                    let g = extend(s as usize, b);
+                                    if let Some(gs) = cull.hit_g.get_mut(slot..slot + 4) {
+                                        gs.fill(g);
+                                    }
                                     slot += 4;
                                     continue;
                                 }
                                 if let (Some((_, s)), Some(&p)) =
                                     (cull.hit(slot), cull.hit_p.get(slot))
                                 {
-                                    extend(s as usize, (p, p));
+                                    let g = extend(s as usize, (p, p));
+                                    if let Some(gs) = cull.hit_g.get_mut(slot) {
+                                        *gs = g;
+                                    }
                                 }
                                 slot += 1;
                             }
@@ -1556,7 +1564,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                 {
                                     let ray = Ray::new(self.camera.eye(), dir);
                                     if let Some((p, _)) = point(&ray, t, s as usize) {
-                                        extend(s as usize, (p, p));
+                                        let g = extend(s as usize, (p, p));
+                                        if let Some(gs) = cull.hit_g.get_mut(slot) {
+                                            *gs = g;
+                                        }
                                     }
                                 }
                             }
@@ -1573,7 +1584,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         if let Some((t, s)) = h {
                             if self.shadow_rays {
                                 if let Some((p, _)) = point(&ray, t, s) {
-                                    extend(s, (p, p));
+                                    let g = extend(s, (p, p));
+                                    if let Some(gs) = cull.hit_g.get_mut(slot) {
+                                        *gs = g;
+                                    }
                                 }
                             }
                             // Only a hit is shaded with its ray.
@@ -1735,6 +1749,8 @@ fn box4(p: &[Vec3]) -> (Vec3, Vec3) {
 const GROUPS: usize = 4;
 /// An unused group.
 const NONE: u16 = u16::MAX;
+/// A slot's hit in no group (`Cull::hit_g`).
+const NO_GROUP: u8 = u8::MAX;
 /// The group of every other sphere.
 const REST: u16 = u16::MAX - 1;
 /// Span pixels whose view ray direction is kept for shading: all, which spares a second square
@@ -2267,6 +2283,9 @@ struct Cull<const S: usize, const L: usize> {
     kept: bool,
     hit_t: [f32; SPAN * KEPT],
     hit_s: [u16; SPAN * KEPT],
+    /// Where `culled`, the hit group of each slot's hit (`NO_GROUP`: none), whose shadow lists
+    /// shading takes without searching the groups for the hit's sphere.
+    hit_g: [u8; SPAN * KEPT],
     #[cfg(not(lanes))]
     hit_d: [Vec3; DIRS],
     /// On hosts, the directions by coordinate (x, y, z), padded to whole lanes past the last
@@ -2313,6 +2332,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             // Zeros, which the compiler writes in place; a span writes them before use.
             hit_t: [0.0; SPAN * KEPT],
             hit_s: [0; SPAN * KEPT],
+            hit_g: [NO_GROUP; SPAN * KEPT],
             #[cfg(not(lanes))]
             hit_d: [Vec3::ZERO; DIRS],
             #[cfg(lanes)]
@@ -2390,6 +2410,18 @@ impl<const S: usize, const L: usize> Cull<S, L> {
         if let Some(a) = self.hit_d.get_mut(k) {
             *a = d;
         }
+    }
+
+    /// The shadow lists of the primary hit in `slot` (see `hit_g`), when the span has them.
+    #[inline(always)]
+    fn lists_at(&self, slot: usize) -> Option<Lists<'_, L>> {
+        if !self.culled {
+            return None;
+        }
+        Some(Lists {
+            ranges: self.ranges.get(*self.hit_g.get(slot)? as usize)?,
+            pool: &self.pool,
+        })
     }
 
     /// The shadow lists of a primary hit on `sphere`: its group's pool range per light.
