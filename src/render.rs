@@ -1437,6 +1437,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         cull.culled = false;
         cull.stored = false;
         cull.kept = false;
+        // No group until this span's: `lists` finds none where the span builds no lists.
+        cull.groups = [NONE; GROUPS];
         // Without shadow rays the span needs no bounds, but with one sample a pixel its hits
         // are still traced here, in one tight loop over the span, and kept for shading.
         let kept = (self.samples * self.samples) as usize <= KEPT;
@@ -1608,7 +1610,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         cull.culled = true;
         cull.pool.clear();
-        cull.groups = [NONE; GROUPS];
         for (g, group) in groups.iter().enumerate() {
             let (Some(slot), Some(ranges)) = (cull.groups.get_mut(g), cull.ranges.get_mut(g))
             else {
@@ -2424,7 +2425,8 @@ impl<const S: usize, const L: usize> Cull<S, L> {
         })
     }
 
-    /// The shadow lists of a primary hit on `sphere`: its group's pool range per light.
+    /// The shadow lists of a primary hit on `sphere`: its group's pool range per light; none
+    /// where the span built no lists (`gather` clears the groups first).
     #[inline]
     fn lists(&self, sphere: usize) -> Option<Lists<'_, L>> {
         let mut g = None;
