@@ -1756,8 +1756,8 @@ const NO_GROUP: u8 = u8::MAX;
 const REST: u16 = u16::MAX - 1;
 /// Span pixels whose view ray direction is kept for shading: all, which spares building it again
 /// per hit, except on soft-float Arm (Cortex-M0), whose deeper render stack has no room for the
-/// 12 bytes a pixel (it rebuilds the ray instead: since the directions stay unnormalised, three
-/// soft-float multiply-adds).
+/// 12 bytes a pixel (it rebuilds the ray instead: since the directions stay unnormalised, a
+/// few soft-float products and sums, no square root or divide).
 const DIRS: usize = if cfg!(no_dirs) { 0 } else { SPAN * KEPT };
 /// Primary hits a span keeps per column for shading: the samples of a supersampled pixel, so
 /// that it is not traced twice (once for the span's bounds, once to shade; up to 2×2), or with
