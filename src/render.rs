@@ -588,13 +588,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     #[inline]
     fn shade_from(&self, ray: &Ray, first: Option<Hit>, lists: Option<Lists<'_, L>>) -> Color {
         let scene = self.scene;
-        let mut primary = true;
-        follow(scene, ray, first, |hit, ray| {
-            let lists = if core::mem::replace(&mut primary, false) {
-                lists
-            } else {
-                None
-            };
+        follow(scene, ray, first, |hit, ray, primary| {
+            let lists = if primary { lists } else { None };
             shade_lit(scene, hit, ray.dir, |i, light, v| {
                 self.blocked(hit, lists, i, light, v)
             })

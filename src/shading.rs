@@ -495,10 +495,10 @@ pub fn find_from<const S: usize, const L: usize>(
 /// ```
 pub fn trace<const S: usize, const L: usize>(scene: &Scene<S, L>, ray: &Ray) -> Color {
     let first = scene.find_intersection(ray, T_EPS, f32::INFINITY);
-    follow(scene, ray, first, |hit, ray| shade(scene, ray, hit))
+    follow(scene, ray, first, |hit, ray, _| shade(scene, ray, hit))
 }
 
-/// Follows mirror bounces from a primary hit, shading each hit with `local`.
+/// Follows mirror bounces from a primary hit, shading each hit with `local(hit, ray, primary)`.
 ///
 /// `colour = local₀ + k_m₀ ⊙ (local₁ + k_m₁ ⊙ (…))` is summed front to back with the product
 /// of the mirror colours so far, so the bounces need no recursion and no stack per depth.
@@ -507,14 +507,14 @@ pub(crate) fn follow<const S: usize, const L: usize>(
     scene: &Scene<S, L>,
     primary: &Ray,
     first: Option<Hit>,
-    mut local: impl FnMut(&Hit, &Ray) -> Color,
+    mut local: impl FnMut(&Hit, &Ray, bool) -> Color,
 ) -> Color {
     // The primary hit on its own: most hits are not mirrors, and the bounce loop, out of
     // line, keeps its state out of their registers.
     let Some(h) = first else {
         return scene.background();
     };
-    let colour = local(&h, primary);
+    let colour = local(&h, primary, true);
     if !scene.has_mirror(h.sphere) || scene.max_depth() == 0 {
         return colour;
     }
@@ -534,7 +534,7 @@ fn bounce<const S: usize, const L: usize>(
     first: &Hit,
     mut colour: Color,
     km: Color,
-    local: &mut impl FnMut(&Hit, &Ray) -> Color,
+    local: &mut impl FnMut(&Hit, &Ray, bool) -> Color,
 ) -> Color {
     let mut weight = km;
     let mut ray = reflect(ray, first);
@@ -544,7 +544,7 @@ fn bounce<const S: usize, const L: usize>(
         let Some(h) = hit else {
             return colour + weight.mul_elem(scene.background());
         };
-        colour += weight.mul_elem(local(&h, &ray));
+        colour += weight.mul_elem(local(&h, &ray, false));
         let km = scene
             .materials()
             .get(h.sphere)
