@@ -169,6 +169,9 @@ pub struct Scene<const S: usize, const L: usize> {
     background: Color,
     shadows: bool,
     max_depth: u8,
+    /// Whether any sphere is a mirror: most scenes have none, and their hits skip the
+    /// per-sphere test.
+    mirrors: bool,
 }
 
 impl<const S: usize, const L: usize> Default for Scene<S, L> {
@@ -248,6 +251,7 @@ impl<const S: usize, const L: usize> Scene<S, L> {
             background: Color::ZERO,
             shadows: true,
             max_depth: 3,
+            mirrors: false,
         }
     }
 
@@ -277,6 +281,7 @@ impl<const S: usize, const L: usize> Scene<S, L> {
         // The vectors have capacity S and grow together, so these pushes cannot fail.
         let _ = self.materials.push(material);
         let (specular, mirror) = (!material.specular.is_zero(), !material.mirror.is_zero());
+        self.mirrors |= mirror;
         let _ = self.derived.push(Derived {
             near2: near2(&material),
             flags: specular as u8 | (mirror as u8) << 1,
@@ -412,6 +417,12 @@ impl<const S: usize, const L: usize> Scene<S, L> {
     #[inline]
     pub(crate) fn has_mirror(&self, i: usize) -> bool {
         self.derived.get(i).is_some_and(|d| d.flags & 2 != 0)
+    }
+
+    /// Whether any sphere is a mirror.
+    #[inline]
+    pub(crate) fn has_mirrors(&self) -> bool {
+        self.mirrors
     }
 
     /// The lights (directional ones with unit direction).

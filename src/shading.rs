@@ -515,7 +515,7 @@ pub(crate) fn follow<const S: usize, const L: usize>(
         return scene.background();
     };
     let colour = local(&h, primary, true);
-    if !scene.has_mirror(h.sphere) || scene.max_depth() == 0 {
+    if !scene.has_mirrors() || !scene.has_mirror(h.sphere) || scene.max_depth() == 0 {
         return colour;
     }
     let km = scene
