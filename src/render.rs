@@ -1544,20 +1544,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                     })
                                     .flatten();
                                 if let Some((s, b)) = four {
-                                    let g = extend(s as usize, b);
-                                    if let Some(gs) = cull.hit_g.get_mut(slot..slot + 4) {
-                                        gs.fill(g);
-                                    }
+                                    cull.set_group(slot..slot + 4, extend(s as usize, b));
                                     slot += 4;
                                     continue;
                                 }
                                 if let (Some((_, s)), Some(&p)) =
                                     (cull.hit(slot), cull.hit_p.get(slot))
                                 {
-                                    let g = extend(s as usize, (p, p));
-                                    if let Some(gs) = cull.hit_g.get_mut(slot) {
-                                        *gs = g;
-                                    }
+                                    cull.set_group(slot..slot + 1, extend(s as usize, (p, p)));
                                 }
                                 slot += 1;
                             }
@@ -1568,9 +1562,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                     let ray = Ray::new(self.camera.eye(), dir);
                                     if let Some((p, _)) = point(&ray, t, s as usize) {
                                         let g = extend(s as usize, (p, p));
-                                        if let Some(gs) = cull.hit_g.get_mut(slot) {
-                                            *gs = g;
-                                        }
+                                        cull.set_group(slot..slot + 1, g);
                                     }
                                 }
                             }
@@ -1587,10 +1579,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         if let Some((t, s)) = h {
                             if self.shadow_rays {
                                 if let Some((p, _)) = point(&ray, t, s) {
-                                    let g = extend(s, (p, p));
-                                    if let Some(gs) = cull.hit_g.get_mut(slot) {
-                                        *gs = g;
-                                    }
+                                    cull.set_group(slot..slot + 1, extend(s, (p, p)));
                                 }
                             }
                             // Only a hit is shaded with its ray.
@@ -2412,6 +2401,14 @@ impl<const S: usize, const L: usize> Cull<S, L> {
         #[cfg(not(lanes))]
         if let Some(a) = self.hit_d.get_mut(k) {
             *a = d;
+        }
+    }
+
+    /// Records that the hits in `slots` joined group `g` (see `hit_g`).
+    #[inline(always)]
+    fn set_group(&mut self, slots: core::ops::Range<usize>, g: u8) {
+        if let Some(gs) = self.hit_g.get_mut(slots) {
+            gs.fill(g);
         }
     }
 
