@@ -108,8 +108,7 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
         // Hosts: tile by tile, as `render_rows` traces them.
         #[cfg(lanes)]
         let _ = self.tile_rows(first_row, rows as u32, |t| {
-            let at = (t.j - first_row) as usize * w + t.i as usize;
-            let out = buf.get_mut(at..).unwrap_or(&mut []);
+            let out = t.place(buf, first_row, w);
             for (k, (o, &c)) in out.iter_mut().zip(t.px).enumerate() {
                 *o = dither_rgb565(c, t.i + k as u32, t.j);
             }

@@ -984,9 +984,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // Hosts: tile by tile (`tile_rows`).
         #[cfg(lanes)]
         let _ = self.tile_rows(first_row, rows, |t: TileRow<'_>| {
-            let at = (t.j - first_row) as usize * w + t.i as usize;
-            let out = buf.get_mut(at..).unwrap_or(&mut []);
-            for (o, &p) in out.iter_mut().zip(t.px) {
+            for (o, &p) in t.place(buf, first_row, w).iter_mut().zip(t.px) {
                 *o = p.into();
             }
             Ok::<(), core::convert::Infallible>(())
@@ -2478,6 +2476,17 @@ pub(crate) struct TileRow<'p> {
     pub(crate) i: u32,
     pub(crate) j: u32,
     pub(crate) px: &'p [Rgb888],
+}
+
+#[cfg(lanes)]
+impl TileRow<'_> {
+    /// Where these pixels go in `buf`, whole rows of `w` pixels from row `first_row`: the rest
+    /// of `buf` from pixel `(i, j)` (empty past its end).
+    #[inline(always)]
+    pub(crate) fn place<'b, C>(&self, buf: &'b mut [C], first_row: u32, w: usize) -> &'b mut [C] {
+        let at = (self.j - first_row) as usize * w + self.i as usize;
+        buf.get_mut(at..).unwrap_or(&mut [])
+    }
 }
 
 /// The pixels of one row, traced span by span (see [`Frame::row`]).
