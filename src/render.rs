@@ -2312,17 +2312,18 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             row: heapless::Vec::new(),
             span: heapless::Vec::new(),
             pool: heapless::Vec::new(),
-            groups: [NONE; GROUPS],
-            ranges: [[ALL; L]; GROUPS],
+            // Zeros, which the compiler writes in place (one `memset`), wherever `gather` writes
+            // the field before it is read: the groups, their ranges and the slots.
+            groups: [0; GROUPS],
+            ranges: [[(0, 0); L]; GROUPS],
             span_start: 0,
             span_end: 0,
             culled: false,
             stored: false,
             kept: false,
-            // Zeros, which the compiler writes in place; a span writes them before use.
             hit_t: [0.0; SPAN * KEPT],
             hit_s: [0; SPAN * KEPT],
-            hit_g: [NO_GROUP; SPAN * KEPT],
+            hit_g: [0; SPAN * KEPT],
             #[cfg(not(lanes))]
             hit_d: [Vec3::ZERO; DIRS],
             #[cfg(lanes)]
