@@ -125,6 +125,21 @@ impl Vec3 {
         sqrt(self.dot(self))
     }
 
+    /// The absolute value of each component.
+    ///
+    /// ```
+    /// # use microray::Vec3;
+    /// assert_eq!(Vec3::new(1.0, -7.0, -0.0).abs(), Vec3::new(1.0, 7.0, 0.0));
+    /// ```
+    #[inline]
+    pub fn abs(self) -> Vec3 {
+        Vec3::new(
+            libm::fabsf(self.x),
+            libm::fabsf(self.y),
+            libm::fabsf(self.z),
+        )
+    }
+
     /// The largest absolute component.
     ///
     /// ```

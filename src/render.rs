@@ -1419,6 +1419,65 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
     }
 
+    /// Joins the span's hits in `slots` (column `i0` first, sample offset `ox`, all along
+    /// `row`) to their groups' bounds run by run, where the span keeps no hit points
+    /// (Cortex-M): a run of hits on one sphere as the box of the row's ray fan over the run's
+    /// columns and range of `t` (`RowRays::fan_box`, the range found in one tight loop), or for
+    /// a sphere beyond near2 as the sphere's box (`hit_point_far` puts those points on the
+    /// sphere, not at `eye + t·d`, which is off where a grazing ray's `t` is ill-conditioned).
+    /// No point and box a pixel: on the M4F they had cost ~60 instructions a hit (the frame
+    /// went from 516.2 to 490.0), on the M0 ~540 (15 005 to 14 659).
+    #[inline(always)]
+    fn bound_runs(
+        &self,
+        row: &crate::camera::RowRays,
+        (i0, ox): (u32, f32),
+        slots: core::ops::Range<usize>,
+        cull: &mut Cull<S, L>,
+        bounds: &mut Bounds,
+    ) {
+        let mut slot = slots.start;
+        while slot < slots.end {
+            let Some((t, s)) = cull.hit(slot) else {
+                slot += 1;
+                continue;
+            };
+            let (mut t0, mut t1, mut next) = (t, t, slot + 1);
+            if let (Some(ss), Some(ts)) = (cull.hit_s.get(..slots.end), cull.hit_t.get(..slots.end))
+            {
+                while let (Some(&s2), Some(&t)) = (ss.get(next), ts.get(next)) {
+                    if s2 != s {
+                        break;
+                    }
+                    if t < t0 {
+                        t0 = t;
+                    }
+                    if t > t1 {
+                        t1 = t;
+                    }
+                    next += 1;
+                }
+            }
+            let s = s as usize;
+            let join = if self.offset_near(s) {
+                // `column` is monotonic: the run's ends have its least and greatest.
+                let x = |k: usize| (i0 + (k - slots.start) as u32) as f32 + ox;
+                let columns = (row.column(x(slot)), row.column(x(next - 1)));
+                Some(row.fan_box((t0, t1), columns))
+            } else {
+                self.scene.spheres().get(s).map(|sp| {
+                    let r = Vec3::splat(sp.radius);
+                    (sp.center - r, sp.center + r)
+                })
+            };
+            if let Some(join) = join {
+                let g = bounds.join::<false>(s, join);
+                cull.set_group(slot..next, g);
+            }
+            slot = next;
+        }
+    }
+
     /// Gathers the span `[span_start, span_end)` of row `j`: its spheres from the row's, then
     /// (with shadow rays, or one sample a pixel) its primary hits, and with shadow rays the
     /// ball bounding their points and each light's possible blockers.
@@ -1447,51 +1506,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // The span's primary hits (kept for shading when one sample per pixel), grouped by
         // the sphere hit (a sphere and the wall behind it make poor company in one bound),
         // and the box of each group's points.
-        let spheres = self.scene.spheres();
-        let mut groups = [Group::EMPTY; GROUPS];
-        // The group of the previous hit's sphere: a sphere keeps its group once it has one,
-        // and neighbouring pixels mostly hit the same sphere.
-        let mut last = (usize::MAX, 0);
-        // The box `(lo, hi)` (a point, or several points' box) joins sphere `sphere`'s group.
-        let mut extend = |sphere: usize, (p_lo, p_hi): (Vec3, Vec3)| -> u8 {
-            let g = if sphere == last.0 {
-                last.1
-            } else {
-                let g = group_of(&groups, sphere).unwrap_or_else(|| {
-                    // A new group while there is room; the last one takes every other sphere.
-                    let free = groups.iter().position(|g| g.sphere == NONE);
-                    match free {
-                        Some(k) if k + 1 < GROUPS => k,
-                        _ => GROUPS - 1,
-                    }
-                });
-                if let Some(gr) = groups.get_mut(g) {
-                    if gr.sphere == NONE {
-                        gr.sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
-                    }
-                }
-                last = (sphere, g);
-                g
-            };
-            if let Some(gr) = groups.get_mut(g) {
-                // Comparisons, not `f32::min`/`max` (calls to `fminf`/`fmaxf` without an FPU
-                // instruction for them); a NaN coordinate is skipped as `min`/`max` skip it.
-                let (lo, hi) = (&mut gr.lo, &mut gr.hi);
-                for (l, h, a, b) in [
-                    (&mut lo.x, &mut hi.x, p_lo.x, p_hi.x),
-                    (&mut lo.y, &mut hi.y, p_lo.y, p_hi.y),
-                    (&mut lo.z, &mut hi.z, p_lo.z, p_hi.z),
-                ] {
-                    if a < *l {
-                        *l = a;
-                    }
-                    if b > *h {
-                        *h = b;
-                    }
-                }
-            }
-            g as u8
-        };
+        let mut bounds = Bounds::EMPTY;
         // Slots whose hit joins no group (a miss, or no point) get no lists: every sphere.
         cull.hit_g.fill(NO_GROUP);
         if self.samples == 1 && cull.span.is_empty() {
@@ -1504,11 +1519,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             // there is room (`KEPT`), the samples outermost so that their offsets (the divides
             // of `Camera::primary_ray`) are hoisted.
             let n = self.samples;
-            // The point of `make_hit`, without the rest of the hit record, joins the bounds.
-            let point = |ray: &Ray, t: f32, s: usize| {
-                let (e, sphere) = (self.eye.get(s)?, spheres.get(s)?);
-                Some(hit_point_near(ray, t, e.f, sphere, self.offset_near(s)))
-            };
             // Rows of a tile (hosts, one sample a pixel), or the samples of one row.
             for rs in 0..cull.rows() * n {
                 // (Several rows come with one sample a pixel only; Cortex-M has one row.)
@@ -1542,28 +1552,27 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                     })
                                     .flatten();
                                 if let Some((s, b)) = four {
-                                    cull.set_group(slot..slot + 4, extend(s as usize, b));
+                                    cull.set_group(
+                                        slot..slot + 4,
+                                        bounds.join::<true>(s as usize, b),
+                                    );
                                     slot += 4;
                                     continue;
                                 }
                                 if let (Some((_, s)), Some(&p)) =
                                     (cull.hit(slot), cull.hit_p.get(slot))
                                 {
-                                    cull.set_group(slot..slot + 1, extend(s as usize, (p, p)));
+                                    cull.set_group(
+                                        slot..slot + 1,
+                                        bounds.join::<true>(s as usize, (p, p)),
+                                    );
                                 }
                                 slot += 1;
                             }
                         } else if self.shadow_rays {
-                            for slot in base..base + (i1 - i0) as usize {
-                                if let (Some((t, s)), Some(dir)) = (cull.hit(slot), cull.dir(slot))
-                                {
-                                    let ray = Ray::new(self.camera.eye(), dir);
-                                    if let Some((p, _)) = point(&ray, t, s as usize) {
-                                        let g = extend(s as usize, (p, p));
-                                        cull.set_group(slot..slot + 1, g);
-                                    }
-                                }
-                            }
+                            let row = self.camera.row(y);
+                            let slots = base..base + (i1 - i0) as usize;
+                            self.bound_runs(&row, (i0, ox), slots, cull, &mut bounds);
                         }
                         continue;
                     }
@@ -1574,12 +1583,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         // `primary_ray(i, j, sx, sy, n)`, the same bits.
                         let ray = row.ray(i as f32 + ox);
                         let h = self.primary_among(&ray, i, &cull.span);
-                        if let Some((t, s)) = h {
-                            if self.shadow_rays {
-                                if let Some((p, _)) = point(&ray, t, s) {
-                                    cull.set_group(slot..slot + 1, extend(s, (p, p)));
-                                }
-                            }
+                        if h.is_some() {
                             // Only a hit is shaded with its ray.
                             cull.set_dir(slot, ray.dir);
                         }
@@ -1587,6 +1591,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         if let (Some(t), Some(s)) = (t, s) {
                             (*t, *s) = h.map_or((0.0, NONE), |(t, s)| (t, s as u16));
                         }
+                    }
+                    if self.shadow_rays {
+                        let slots = base..base + (i1 - i0) as usize;
+                        self.bound_runs(&row, (i0, ox), slots, cull, &mut bounds);
                     }
                 }
             }
@@ -1598,7 +1606,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         cull.culled = true;
         cull.pool.clear();
-        for (g, group) in groups.iter().enumerate() {
+        for (g, group) in bounds.groups.iter().enumerate() {
             let (Some(slot), Some(ranges)) = (cull.groups.get_mut(g), cull.ranges.get_mut(g))
             else {
                 continue;
@@ -1613,7 +1621,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             // Rounding of q and of the length: a relative pad far above it. Shadow rays leave
             // from the hit's `anchor + rel`, not from these points: the two differ by the f32
             // error of the hit offset, ~4ε of the distance from the eye (f32 offsets are kept
-            // out to 2048 radii, `scene::near2`), which 2⁻²⁰ of that distance covers.
+            // out to 2048 radii, `scene::near2`), which 2⁻²⁰ of that distance covers. It covers
+            // as well the few ε by which a ray fan's box (`bound_runs`) and the rounded points
+            // `eye + t·d` it stands for may differ (`camera::fan_tests` checks 2⁻²²).
             let reach = (q - self.camera.eye()).length() + half.length();
             let rho = half.length() * (1.0 + 1e-5)
                 + 1e-5 * q.max_abs()
@@ -1786,21 +1796,76 @@ impl Group {
         lo: Vec3::splat(f32::INFINITY),
         hi: Vec3::splat(f32::NEG_INFINITY),
     };
+
+    /// Grows the box to hold `[lo, hi]`. Comparisons, not `f32::min`/`max` (calls to
+    /// `fminf`/`fmaxf` without an FPU instruction for them); a NaN coordinate is skipped as
+    /// `min`/`max` skip it.
+    #[inline(always)]
+    fn add_box(&mut self, p_lo: Vec3, p_hi: Vec3) {
+        let widen = |l: &mut f32, h: &mut f32, a: f32, b: f32| {
+            if a < *l {
+                *l = a;
+            }
+            if b > *h {
+                *h = b;
+            }
+        };
+        let (lo, hi) = (&mut self.lo, &mut self.hi);
+        widen(&mut lo.x, &mut hi.x, p_lo.x, p_hi.x);
+        widen(&mut lo.y, &mut hi.y, p_lo.y, p_hi.y);
+        widen(&mut lo.z, &mut hi.z, p_lo.z, p_hi.z);
+    }
 }
 
-/// The group that holds hits on `sphere`, if there is one yet (the rest group when full).
-#[inline]
-fn group_of(groups: &[Group; GROUPS], sphere: usize) -> Option<usize> {
-    let mut rest = None;
-    for (g, gr) in groups.iter().enumerate() {
-        if gr.sphere as usize == sphere && gr.sphere < REST {
-            return Some(g);
+/// A span's hit groups while [`Frame::gather`] collects their bounds.
+#[derive(Debug, Clone, Copy)]
+struct Bounds {
+    groups: [Group; GROUPS],
+    /// The group of the previous hit's sphere: a sphere keeps its group once it has one, and
+    /// neighbouring pixels mostly hit the same sphere.
+    last: (usize, usize),
+}
+
+impl Bounds {
+    const EMPTY: Bounds = Bounds {
+        groups: [Group::EMPTY; GROUPS],
+        last: (usize::MAX, 0),
+    };
+
+    /// The box `(lo, hi)` (a point, or several points' box) joins sphere `sphere`'s group,
+    /// which it returns. `LAST`: look at the previous join's sphere first (for pixels one by
+    /// one; runs of one sphere, `Frame::bound_runs`, follow each other's sphere only after
+    /// another sphere's run).
+    #[inline(always)]
+    fn join<const LAST: bool>(&mut self, sphere: usize, (lo, hi): (Vec3, Vec3)) -> u8 {
+        let g = if LAST && sphere == self.last.0 {
+            self.last.1
+        } else {
+            // The sphere's group, or the first unused one (groups fill in order), or the last,
+            // which takes every other sphere (`REST`): one pass.
+            let groups = &mut self.groups;
+            let g = (0..GROUPS - 1)
+                .find(|&k| {
+                    groups
+                        .get(k)
+                        .is_some_and(|gr| gr.sphere as usize == sphere || gr.sphere == NONE)
+                })
+                .unwrap_or(GROUPS - 1);
+            if let Some(gr) = groups.get_mut(g) {
+                if gr.sphere == NONE {
+                    gr.sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
+                }
+            }
+            if LAST {
+                self.last = (sphere, g);
+            }
+            g
+        };
+        if let Some(gr) = self.groups.get_mut(g) {
+            gr.add_box(lo, hi);
         }
-        if gr.sphere == REST {
-            rest = Some(g);
-        }
+        g as u8
     }
-    rest
 }
 
 /// Angular margin of the sweep keys of point lights (radians): far above the rounding of
