@@ -575,11 +575,12 @@ impl Prepared {
         hit_ab_xyz(f.x, f.y, f.z, c, r, d.x, d.y, d.z, a, b, tmin, tmax)
     }
 
-    /// [`Prepared::hit`] for constants of an origin outside the sphere (`c > 0`, finite) and
-    /// `tmin ≥ 0`, as the eye's are for most spheres: the same result, bit for bit, without
-    /// the tests that this condition decides (the sign of `c`, its overflow, `q`'s sign and
-    /// zero). For primary rays on Cortex-M, where every test is scalar: the caller checks the
-    /// condition once per sphere, not per ray.
+    /// [`Prepared::hit`] for constants of an origin outside the sphere (`c > 0`, finite),
+    /// `tmin ≥ 0` and a finite `tmax` (`f32::MAX` for no limit: a root is finite), as the
+    /// eye's are for most spheres: the same result, bit for bit, without the tests that these
+    /// conditions decide (the sign of `c`, its overflow, `q`'s sign and zero, a root beyond the
+    /// f32 range). For primary rays on Cortex-M, where every test is scalar: the caller checks
+    /// the condition once per sphere, not per ray.
     #[cfg(any(test, not(lanes)))]
     #[inline(always)]
     pub(crate) fn hit_outside(&self, d: Vec3, tmin: f32, tmax: f32) -> Option<f32> {
@@ -658,11 +659,12 @@ fn hit_ab_xyz(
     select(if t0 <= t1 { (t0, t1) } else { (t1, t0) }, tmin, tmax)
 }
 
-/// [`hit_ab_xyz`]'s steps for `c > 0` finite and `tmin ≥ 0` ([`Prepared::hit_outside`]), with
-/// the tests whose outcome that fixes left out: `c > 0` in the behind test and in the early
-/// return, `c`'s overflow check, `q`'s sign (b < 0 once the behind test has passed: b ≥ 0 left,
-/// and a NaN b makes disc NaN, which the range check hands to the general test with any other
-/// overflow), `q = 0` (q ≥ −b > 0), and `near_root`'s `c > 0 && b < 0`. A copy rather than a
+/// [`hit_ab_xyz`]'s steps for `c > 0` finite, `tmin ≥ 0` and `tmax` finite
+/// ([`Prepared::hit_outside`]), with the tests whose outcome that fixes left out: `c > 0` in the
+/// behind test and in the early return, the early return's `t0 < ∞`, `c`'s overflow check,
+/// `q`'s sign (b < 0 once the behind test has passed: b ≥ 0 left, and a NaN b makes disc NaN,
+/// which the range check hands to the general test with any other overflow), `q = 0`
+/// (q ≥ −b > 0), and `near_root`'s `c > 0 && b < 0`. A copy rather than a
 /// const parameter of `hit_ab_xyz`: made generic, the general test's Cortex-M code grew by 4–5
 /// instructions a test (numbench) and the host's renderer by 3.4 a pixel.
 /// `hit_outside_is_hit` pins the two together, bit for bit.
@@ -709,7 +711,9 @@ fn hit_outside_xyz(
     let s = sqrt(disc);
     let q = s - b;
     let t0 = if s < -0.5 * b { (-b - s) / a } else { c / q };
-    if t0 >= tmin && t0 <= tmax && t0 < f32::INFINITY {
+    // `tmax` is finite: no test of t0 against infinity (a `tmax` of ∞ made the M4F code test
+    // t0's exponent range, 13 instructions a test).
+    if t0 >= tmin && t0 <= tmax {
         return Some(t0);
     }
     let t1 = q / a;
@@ -1486,7 +1490,8 @@ mod lane_tests {
             };
             let scalar = k.hit(d, tmin, tmax);
             assert_eq!(
-                k.hit_outside(d, tmin, tmax).map(f32::to_bits),
+                // Its `tmax` finite: `f32::MAX` for ∞.
+                k.hit_outside(d, tmin, tmax.min(f32::MAX)).map(f32::to_bits),
                 scalar.map(f32::to_bits),
                 "case {case}: {k:?} d {d:?} tmin {tmin} tmax {tmax}"
             );

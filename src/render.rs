@@ -1186,7 +1186,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         {
             // `primary_ray(i, j, sx, sy, n)`, the same bits.
             *d = row.ray(i as f32 + ox).dir;
-            *t = f32::INFINITY;
+            // No limit yet, finite for `hit_outside` (any root is finite).
+            *t = f32::MAX;
             *s = NONE;
         }
         for &sphere in &cull.span {
