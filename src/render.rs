@@ -1181,16 +1181,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             return;
         };
         let row = self.camera.row(y);
-        for ((d, t), (s, i)) in dirs
-            .iter_mut()
-            .zip(ts.iter_mut())
-            .zip(ss.iter_mut().zip(i0..))
-        {
+        // The column `i as f32`, counted in f32: exact below 2²⁴ (image sizes are u16).
+        let mut column = i0 as f32;
+        for ((d, t), s) in dirs.iter_mut().zip(ts.iter_mut()).zip(ss.iter_mut()) {
             // `primary_ray(i, j, sx, sy, n)`, the same bits.
-            *d = row.ray(i as f32 + ox).dir;
+            *d = row.ray(column + ox).dir;
             // No limit yet, finite for `hit_outside` (any root is finite).
             *t = f32::MAX;
             *s = NONE;
+            column += 1.0;
         }
         for &sphere in &cull.span {
             let (Some(b), Some(k)) = (
