@@ -701,11 +701,14 @@ fn hit_outside_xyz(
         let l = f - d * (b / a);
         a * (rr - l.dot(l))
     };
-    if !(0.0..=f32::MAX).contains(&disc) {
+    // `0 ≤ disc ≤ f32::MAX` as a bit test (M4F: for two float comparisons, as `vsqrt` takes
+    // the bits in a core register); −0, which the float test lets through, takes the general
+    // test with the negatives, NaN and ∞.
+    if !crate::math::plus_finite(disc) {
         if disc < 0.0 && finite(disc) {
             return None;
         }
-        // Overflow, rare: the general test, which gives this test's answer too.
+        // Overflow (or −0), rare: the general test, which gives this test's answer too.
         return hit_ab_xyz(fx, fy, fz, c, r, dx, dy, dz, a, b, tmin, tmax);
     }
     let s = sqrt(disc);
@@ -1504,6 +1507,39 @@ mod lane_tests {
             tested > 100_000 && hits > tested / 10 && far_roots > 0 && near > 1000,
             "{tested} {hits} {far_roots} {near}"
         );
+    }
+
+    /// A Hearn–Baker discriminant that underflows to −0 (a tiny direction grazing a sphere):
+    /// `hit_outside` hands it to the general test, whose float range check lets −0 through,
+    /// and answers as that test does, bit for bit.
+    #[test]
+    fn hit_outside_takes_a_negative_zero_discriminant_as_hit_does() {
+        const T_MIN: f32 = f32::MIN_POSITIVE; // the renderer's primary rays'
+        type Test = fn(f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32, f32) -> Option<f32>;
+        let (f, r) = (Vec3::new(10.0, 0.0, 0.0), 1.0f32);
+        let c = f.dot(f) - r * r;
+        let mut negative_zeros = 0;
+        for k in -200..200 {
+            // a = |d|² ≈ 10⁻⁴⁰ (subnormal): a·(r² − |l|²) underflows near the tangent.
+            let y = 1.005_037_8e-21 * (1.0 + k as f32 * f32::EPSILON);
+            let d = Vec3::new(-1e-20, y, 0.0);
+            let (a, b) = (d.dot(d), f.dot(d));
+            let l = f - d * (b / a);
+            let disc = a * (r * r - l.dot(l));
+            negative_zeros += (disc == 0.0 && disc.is_sign_negative()) as u32;
+            for tmax in [f32::MAX, 1e21, 1e20] {
+                let run = |test: Test| {
+                    let t = test(f.x, f.y, f.z, c, r, d.x, d.y, d.z, a, b, T_MIN, tmax);
+                    t.map(f32::to_bits)
+                };
+                assert_eq!(
+                    run(hit_outside_xyz),
+                    run(hit_ab_xyz),
+                    "k {k} d {d:?} disc {disc:e} tmax {tmax}"
+                );
+            }
+        }
+        assert!(negative_zeros > 0, "no case reached a discriminant of -0");
     }
 
     /// Every lane that `leaving_blocks4` decides is the scalar `leaving_blocks`, for shadow rays

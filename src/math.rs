@@ -273,6 +273,25 @@ pub fn finite(x: f32) -> bool {
     libm::fabsf(x) <= f32::MAX
 }
 
+/// Whether `f32::MIN_POSITIVE ≤ x ≤ f32::MAX` (a positive normal number), by one unsigned
+/// comparison of the bits: ±0, subnormals, negatives, ∞ and NaN are outside, as they are for
+/// the two float comparisons. Cheaper than those only where `x` goes to a core register anyway,
+/// as `sqrt`'s argument does on a Cortex-M4F (see [`finite`]).
+#[inline(always)]
+pub(crate) fn positive_normal(x: f32) -> bool {
+    let from = f32::MIN_POSITIVE.to_bits();
+    x.to_bits().wrapping_sub(from) <= f32::MAX.to_bits() - from
+}
+
+/// Whether `+0 ≤ x ≤ f32::MAX` with `+0`'s sign, by one unsigned comparison of the bits: −0,
+/// negatives, ∞ and NaN are outside (the float comparisons would let −0 in). For the same
+/// places as [`positive_normal`].
+#[cfg(any(test, not(lanes)))]
+#[inline(always)]
+pub(crate) fn plus_finite(x: f32) -> bool {
+    x.to_bits() <= f32::MAX.to_bits()
+}
+
 /// `a + b` rounded, and the rounding error exactly: `a + b = s + e` (Knuth's TwoSum, which
 /// needs no ordering of `a` and `b`). Exact for finite inputs whose sum does not overflow.
 ///
@@ -695,5 +714,46 @@ impl TestRng {
     /// Each coordinate uniform in [−s/2, s/2).
     pub(crate) fn vec(&mut self, s: f32) -> Vec3 {
         Vec3::new(self.unit() - 0.5, self.unit() - 0.5, self.unit() - 0.5) * s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bit tests are the float comparisons they stand for, on the edges of their ranges and
+    /// on random bit patterns (every sign, exponent and NaN payload).
+    #[test]
+    fn bit_range_tests_are_the_float_comparisons() {
+        let edges = [
+            0.0,
+            -0.0,
+            f32::MIN_POSITIVE,
+            f32::MIN_POSITIVE.next_down(),
+            f32::MIN_POSITIVE.next_up(),
+            f32::from_bits(1),
+            f32::MAX,
+            -f32::MAX,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+            f32::from_bits(0x7f80_0001),
+            1.0,
+            -1.0,
+            -f32::MIN_POSITIVE,
+        ];
+        let mut g = TestRng(0x9e37_79b9_7f4a_7c15);
+        let random = (0..1_000_000).map(|_| f32::from_bits(g.next() as u32));
+        let (mut inside, mut outside) = (0, 0);
+        for x in edges.into_iter().chain(random) {
+            let normal = (f32::MIN_POSITIVE..=f32::MAX).contains(&x);
+            assert_eq!(positive_normal(x), normal, "{x:e} ({:#x})", x.to_bits());
+            let plus = (0.0..=f32::MAX).contains(&x) && x.is_sign_positive();
+            assert_eq!(plus_finite(x), plus, "{x:e} ({:#x})", x.to_bits());
+            inside += normal as u32;
+            outside += !normal as u32;
+        }
+        assert!(inside > 100_000 && outside > 100_000, "{inside} {outside}");
     }
 }

@@ -40,8 +40,9 @@ fn unit_towards(light: &Light, v: Vec3) -> Vec3 {
         Light::Point { .. } => {
             let ll = v.dot(v);
             // |v|² overflows beyond ~10¹⁹ and underflows below ~10⁻¹⁹: then the guarded form
-            // (and no light at all from a light exactly at p).
-            if (f32::MIN_POSITIVE..=f32::MAX).contains(&ll) {
+            // (and no light at all from a light exactly at p). A bit test (M4F: 3 instructions
+            // fewer than the float comparisons, as `vsqrt` takes the bits in a core register).
+            if crate::math::positive_normal(ll) {
                 v / crate::math::sqrt(ll)
             } else {
                 v.normalized().unwrap_or(Vec3::ZERO)
