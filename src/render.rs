@@ -894,15 +894,18 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let Some((t, s)) = cull.hit(k) else {
                 return cull.miss;
             };
-            let ray = match cull.dir(k) {
-                Some(dir) => Ray::new(self.camera.eye(), dir),
-                None => self.camera.primary_ray(i, j, 0, 0, 1),
+            let dir = match cull.dir(k) {
+                Some(dir) => dir,
+                None => self.camera.primary_ray(i, j, 0, 0, 1).dir,
             };
-            // The hit record from (t, sphere): `make_hit` is a pure function of them.
+            let ray = Ray::new(self.camera.eye(), dir);
+            // The hit record from (t, sphere): `make_hit` is a pure function of them. Its ray
+            // built anew from the values, not read back from `ray`, which shading takes by
+            // address: M4F loaded the direction and eye through core registers to copy them.
             let first = if KEEPS_OFFSETS && SPHERE_MAJOR {
                 self.kept_hit(&ray, t, s as usize, k, cull)
             } else {
-                self.eye_hit(&ray, t, s as usize)
+                self.eye_hit(&Ray::new(self.camera.eye(), dir), t, s as usize)
             };
             self.shade_from(&ray, first, cull.lists_at(k))
         } else if KEPT > 1 && cull.kept {
