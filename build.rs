@@ -6,8 +6,12 @@
 //! `MICRORAY_HOST_AS=m4f` (or `m0`) builds the host as that Cortex-M's render path runs: no
 //! lanes (and for `m0` no kept directions), so that the host's tests check those paths' pixels
 //! on every scene; CI does both (the firmware's CRC checks one scene on each board).
+//!
+//! `cfg(size_opt)` at opt-level "s" or "z": the scalar render path then keeps one out-of-line
+//! copy of the hit record and of the shading (`Frame::shade_stored`), which the speed builds
+//! inline into the pixel loop, the same operations either way.
 fn main() {
-    println!("cargo::rustc-check-cfg=cfg(lanes, no_dirs)");
+    println!("cargo::rustc-check-cfg=cfg(lanes, no_dirs, size_opt)");
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-env-changed=MICRORAY_HOST_AS");
     let env = |k: &str| std::env::var(k).unwrap_or_default();
@@ -29,5 +33,8 @@ fn main() {
     }
     if no_dirs {
         println!("cargo::rustc-cfg=no_dirs");
+    }
+    if matches!(env("OPT_LEVEL").as_str(), "s" | "z") {
+        println!("cargo::rustc-cfg=size_opt");
     }
 }

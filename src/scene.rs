@@ -553,6 +553,33 @@ fn make_hit_xyz(
     py: f32,
     pz: f32,
 ) -> Hit {
+    make_hit_inline(
+        dx, dy, dz, t, i, fx, fy, fz, sphere, near, ox, oy, oz, px, py, pz,
+    )
+}
+
+/// [`make_hit_xyz`]'s body, for the renderer's scalar primary hits, which build their record
+/// where they shade it (`Frame::shade_stored`).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn make_hit_inline(
+    dx: f32,
+    dy: f32,
+    dz: f32,
+    t: f32,
+    i: usize,
+    fx: f32,
+    fy: f32,
+    fz: f32,
+    sphere: &Sphere,
+    near: bool,
+    ox: f32,
+    oy: f32,
+    oz: f32,
+    px: f32,
+    py: f32,
+    pz: f32,
+) -> Hit {
     let ray = Ray::new(Vec3::ZERO, Vec3::new(dx, dy, dz));
     let (f, origin, path) = (
         Vec3::new(fx, fy, fz),

@@ -180,6 +180,18 @@ pub(crate) fn shade_lit<const S: usize, const L: usize>(
     scene: &Scene<S, L>,
     hit: &Hit,
     dir: Vec3,
+    blocked: impl FnMut(usize, &Light, Vec3) -> bool,
+) -> Color {
+    shade_lit_inline(scene, hit, dir, blocked)
+}
+
+/// [`shade_lit`]'s body, for the renderer's scalar primary hits, which shade the hit record
+/// where they build it (`Frame::shade_stored`).
+#[inline(always)]
+pub(crate) fn shade_lit_inline<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    hit: &Hit,
+    dir: Vec3,
     mut blocked: impl FnMut(usize, &Light, Vec3) -> bool,
 ) -> Color {
     // A hit always names a sphere of this scene; `get` keeps a bounds-check panic out of the
@@ -516,6 +528,18 @@ pub(crate) fn follow<const S: usize, const L: usize>(
         return scene.background();
     };
     let colour = local(&h, primary, true);
+    follow_mirror(scene, primary, &h, colour, local)
+}
+
+/// [`follow`] after the primary hit `h`, whose local colour is `colour`: its mirror bounces.
+#[inline]
+pub(crate) fn follow_mirror<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    primary: &Ray,
+    h: &Hit,
+    colour: Color,
+    mut local: impl FnMut(&Hit, &Ray, bool) -> Color,
+) -> Color {
     if !scene.has_mirrors() || !scene.has_mirror(h.sphere) || scene.max_depth() == 0 {
         return colour;
     }
@@ -523,7 +547,7 @@ pub(crate) fn follow<const S: usize, const L: usize>(
         .materials()
         .get(h.sphere)
         .map_or(Color::ZERO, |m| m.mirror);
-    bounce(scene, primary, &h, colour, km, &mut local)
+    bounce(scene, primary, h, colour, km, &mut local)
 }
 
 /// The mirror bounces after `first`, a hit along `ray` whose colour so far is `colour` and
