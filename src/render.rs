@@ -598,8 +598,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         };
         let (d, o, f) = (ray.dir, ray.origin, k.f);
         let near = self.offset_near(s);
+        // No path before the eye: −0, whose sum `−0 + t·d` is `t·d` exactly, which the
+        // compiler then need not compute (`+0 + x` is `x` only up to the sign of a zero).
         let h = crate::scene::make_hit_inline(
-            d.x, d.y, d.z, t, s, f.x, f.y, f.z, sphere, near, o.x, o.y, o.z, 0.0, 0.0, 0.0,
+            d.x, d.y, d.z, t, s, f.x, f.y, f.z, sphere, near, o.x, o.y, o.z, -0.0, -0.0, -0.0,
         );
         let colour = crate::shading::shade_lit_inline(scene, &h, d, |i, light, v| {
             self.blocked(&h, lists, i, light, v)
@@ -609,10 +611,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if !scene.has_mirrors() {
             return self.encode(colour);
         }
+        // A copy, as for `shadow_test`: only the bounces put the record in memory.
         self.encode(crate::shading::follow_mirror(
             scene,
             ray,
-            &h,
+            &{ h },
             colour,
             |hit, ray, _| {
                 shade_lit(scene, hit, ray.dir, |i, light, v| {
@@ -672,7 +675,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if cands.is_empty() && !(hit.normal.dot(hit.offset) < 0.0) {
             return false;
         }
-        self.shadow_test(hit, cands, i, light, v)
+        // A copy for the out-of-line test: the caller's record, which `shade_stored` keeps
+        // in registers, does not escape to memory on the paths that do not get here.
+        self.shadow_test(&{ *hit }, cands, i, light, v)
     }
 
     /// [`in_shadow_among`] of light `i` at `hit` over `cands`, with the light's per-frame
