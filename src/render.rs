@@ -1570,7 +1570,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // The span's primary hits (kept for shading when one sample per pixel), grouped by
         // the sphere hit (a sphere and the wall behind it make poor company in one bound),
         // and the box of each group's points.
-        let mut bounds = Bounds::EMPTY;
+        let mut bounds = Bounds::new();
         // Slots whose hit joins no group (a miss, or no point) get no lists: every sphere.
         cull.hit_g.fill(NO_GROUP);
         if self.samples == 1 && cull.span.is_empty() {
@@ -1670,15 +1670,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         cull.culled = true;
         cull.pool.clear();
-        for (g, group) in bounds.groups.iter().enumerate() {
+        for g in 0..GROUPS {
             let (Some(slot), Some(ranges)) = (cull.groups.get_mut(g), cull.ranges.get_mut(g))
             else {
                 continue;
             };
-            *slot = group.sphere;
-            if group.sphere == NONE {
+            let Some(group) = bounds.groups.get(g) else {
+                *slot = NONE;
                 continue;
-            }
+            };
+            *slot = group.sphere;
             let (lo, hi) = (group.lo, group.hi);
             let q = (lo + hi) * 0.5;
             let half = (hi - lo) * 0.5;
@@ -1855,12 +1856,6 @@ struct Group {
 }
 
 impl Group {
-    const EMPTY: Group = Group {
-        sphere: NONE,
-        lo: Vec3::splat(f32::INFINITY),
-        hi: Vec3::splat(f32::NEG_INFINITY),
-    };
-
     /// Grows the box to hold `[lo, hi]`. Comparisons, not `f32::min`/`max` (calls to
     /// `fminf`/`fmaxf` without an FPU instruction for them); a NaN coordinate is skipped as
     /// `min`/`max` skip it.
@@ -1882,19 +1877,26 @@ impl Group {
 }
 
 /// A span's hit groups while [`Frame::gather`] collects their bounds.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 struct Bounds {
-    groups: [Group; GROUPS],
+    /// The groups in the order they were made, each with its sphere's hits; the last of
+    /// `GROUPS` takes every other sphere (`REST`). A list, not an array of empty groups:
+    /// each span starts with none, and an array's boxes were copied in for every span
+    /// (M4F: ~4 instructions a pixel).
+    groups: heapless::Vec<Group, GROUPS>,
     /// The group of the previous hit's sphere: a sphere keeps its group once it has one, and
     /// neighbouring pixels mostly hit the same sphere.
     last: (usize, usize),
 }
 
 impl Bounds {
-    const EMPTY: Bounds = Bounds {
-        groups: [Group::EMPTY; GROUPS],
-        last: (usize::MAX, 0),
-    };
+    #[inline(always)]
+    fn new() -> Self {
+        Bounds {
+            groups: heapless::Vec::new(),
+            last: (usize::MAX, 0),
+        }
+    }
 
     /// The box `(lo, hi)` (a point, or several points' box) joins sphere `sphere`'s group,
     /// which it returns. `LAST`: look at the previous join's sphere first (for pixels one by
@@ -1905,28 +1907,27 @@ impl Bounds {
         let g = if LAST && sphere == self.last.0 {
             self.last.1
         } else {
-            // The sphere's group, or the first unused one (groups fill in order), or the last,
-            // which takes every other sphere (`REST`): one pass.
-            let groups = &mut self.groups;
-            let g = (0..GROUPS - 1)
-                .find(|&k| {
-                    groups
-                        .get(k)
-                        .is_some_and(|gr| gr.sphere as usize == sphere || gr.sphere == NONE)
-                })
-                .unwrap_or(GROUPS - 1);
-            if let Some(gr) = groups.get_mut(g) {
-                if gr.sphere == NONE {
-                    gr.sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
-                }
-            }
+            // The sphere's group, or else a new one, or the last, which takes every other
+            // sphere (`REST`).
+            let groups = &self.groups;
+            let open = groups.len().min(GROUPS - 1);
+            let g = (0..open)
+                .find(|&k| groups.get(k).is_some_and(|gr| gr.sphere as usize == sphere))
+                .unwrap_or(open);
             if LAST {
                 self.last = (sphere, g);
             }
             g
         };
-        if let Some(gr) = self.groups.get_mut(g) {
-            gr.add_box(lo, hi);
+        match self.groups.get_mut(g) {
+            Some(gr) => gr.add_box(lo, hi),
+            // A new group (`g` is the number of groups, below `GROUPS`), whose box is the
+            // first. A NaN coordinate stays in it, where `add_box` skips one: the group's
+            // lists are then every sphere's (`gather`: not `bounded`), which holds.
+            None => {
+                let sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
+                let _ = self.groups.push(Group { sphere, lo, hi });
+            }
         }
         g as u8
     }
