@@ -1506,13 +1506,17 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 slot += 1;
                 continue;
             };
-            let (mut t0, mut t1, mut next) = (t, t, slot + 1);
+            // The run's least and greatest `t` by their bits: a hit's `t` is positive (at least
+            // `T_EPS`), where the bits order as the values do (M4F: integer compares, no
+            // moves to and from the FPU's flags).
+            let (mut t0, mut t1, mut next) = (t.to_bits(), t.to_bits(), slot + 1);
             if let (Some(ss), Some(ts)) = (cull.hit_s.get(..slots.end), cull.hit_t.get(..slots.end))
             {
                 while let (Some(&s2), Some(&t)) = (ss.get(next), ts.get(next)) {
                     if s2 != s {
                         break;
                     }
+                    let t = t.to_bits();
                     if t < t0 {
                         t0 = t;
                     }
@@ -1522,6 +1526,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     next += 1;
                 }
             }
+            let (t0, t1) = (f32::from_bits(t0), f32::from_bits(t1));
             let s = s as usize;
             let join = if self.offset_near(s) {
                 // `column` is monotonic: the run's ends have its least and greatest.
