@@ -955,6 +955,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 None => self.camera.primary_ray(i, j, 0, 0, 1).dir,
             };
             let ray = Ray::new(self.camera.eye(), dir);
+            // The scalar path's speed builds build the hit record where they shade it; hosts
+            // and size builds go on below.
             #[cfg(not(any(lanes, size_opt)))]
             return self.shade_stored(&ray, t, s as usize, cull.lists_at(k));
             // The hit record from (t, sphere): `make_hit` is a pure function of them. Its ray
