@@ -596,7 +596,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let (Some(k), Some(sphere)) = (self.eye.get(s), scene.spheres().get(s)) else {
             return self.encode(scene.background());
         };
-        let (d, o, f) = (ray.dir, ray.origin, k.f);
+        // The values, not `ray`'s memory, which only the bounces need: its origin is the eye.
+        let (d, o, f) = (ray.dir, self.camera.eye(), k.f);
         let near = self.offset_near(s);
         // No path before the eye: −0, whose sum `−0 + t·d` is `t·d` exactly, which the
         // compiler then need not compute (`+0 + x` is `x` only up to the sign of a zero).
