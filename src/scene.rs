@@ -559,7 +559,10 @@ fn make_hit_xyz(
 }
 
 /// [`make_hit_xyz`]'s body, for the renderer's scalar primary hits, which build their record
-/// where they shade it (`Frame::shade_stored`).
+/// where they shade it (`Frame::shade_stored`). A function of its own, not an inlining
+/// attribute of `make_hit_xyz`'s: inlined at all its call sites in Arm's speed builds, that
+/// cost the M0 +2.3% instructions a pixel (+0.9% with the M0 left out of line), the M4F
+/// nothing.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn make_hit_inline(
