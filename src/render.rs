@@ -369,12 +369,21 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         self.eye_hit(ray, t, s)
     }
 
+    /// What a primary hit record on sphere `s` takes besides its ray and `t`: the eye's
+    /// constants for `s`, the sphere, and whether its offset is `f + t·d` ([`Frame::offset_near`]).
+    #[inline(always)]
+    fn eye_record(&self, s: usize) -> Option<(&Prepared, &crate::Sphere, bool)> {
+        Some((
+            self.eye.get(s)?,
+            self.scene.spheres().get(s)?,
+            self.offset_near(s),
+        ))
+    }
+
     /// The hit record of a primary ray at `t` on sphere `s`: a pure function of them.
     #[inline]
     fn eye_hit(&self, ray: &Ray, t: f32, s: usize) -> Option<Hit> {
-        let k = self.eye.get(s)?;
-        let sphere = self.scene.spheres().get(s)?;
-        let near = self.offset_near(s);
+        let (k, sphere, near) = self.eye_record(s)?;
         Some(make_hit(
             ray,
             t,
@@ -395,10 +404,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// is 0, compiles the plain `eye_hit` alone.
     #[inline]
     fn kept_hit(&self, ray: &Ray, t: f32, s: usize, slot: usize, cull: &Cull<S, L>) -> Option<Hit> {
-        let (k, sphere) = (self.eye.get(s)?, self.scene.spheres().get(s)?);
-        // Within near2 the offset is `f + t·d`, cheaper to redo than to keep (`hit_points_lanes`
-        // does not store it there).
-        let near = self.offset_near(s);
+        let (k, sphere, near) = self.eye_record(s)?;
+        // Within near2 (`near`) the offset is `f + t·d`, cheaper to redo than to keep
+        // (`hit_points_lanes` does not store it there).
         let offset = match cull.hit_o.get(slot) {
             Some(&offset) if cull.culled && !near => offset,
             _ => hit_point_near(ray, t, k.f, sphere, near).1,
@@ -593,12 +601,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     #[inline(always)]
     fn shade_stored(&self, ray: &Ray, t: f32, s: usize, lists: Option<Lists<'_, L>>) -> Rgb888 {
         let scene = self.scene;
-        let (Some(k), Some(sphere)) = (self.eye.get(s), scene.spheres().get(s)) else {
+        let Some((k, sphere, near)) = self.eye_record(s) else {
             return self.encode(scene.background());
         };
         // The values, not `ray`'s memory, which only the bounces need: its origin is the eye.
         let (d, o, f) = (ray.dir, self.camera.eye(), k.f);
-        let near = self.offset_near(s);
         // No path before the eye: −0, whose sum `−0 + t·d` is `t·d` exactly, which the
         // compiler then need not compute (`+0 + x` is `x` only up to the sign of a zero).
         let h = crate::scene::make_hit_inline(
