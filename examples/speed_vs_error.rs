@@ -405,6 +405,17 @@ impl M4f {
             Err(why) => format!("not measured ({why})"),
         }
     }
+
+    /// [`M4f::cell`] with its ratio to the count under `base` (the lecture's formula with the
+    /// same square root, so that the ratio compares formulas): "100.2 (1.86×)".
+    fn cell_vs(&self, key: &str, base: &str) -> String {
+        let cell = self.cell(key);
+        let num = |k: &str| self.0.as_ref().ok()?.get(k)?.parse::<f64>().ok();
+        match (num(key), num(base)) {
+            (Some(n), Some(b)) if b > 0.0 => format!("{cell} ({:.2}×)", n / b),
+            _ => cell,
+        }
+    }
 }
 
 // ---- the plot -----------------------------------------------------------------------------------
@@ -559,6 +570,7 @@ fn main() {
     let prepared: Vec<Prepared> = spheres.iter().map(|s| Prepared::exact(eye, s)).collect();
     let mut fs: Vec<&mut dyn FnMut() -> f32> = vec![];
     let mut f_lecture = || sum_hits(eye, &dirs, &spheres, lecture);
+    let mut f_lecture_vsqrt = || sum_hits(eye, &dirs, &spheres, lecture_vsqrt);
     let mut f_geometric = || sum_hits(eye, &dirs, &spheres, geometric);
     let mut f_hb = || sum_hits(eye, &dirs, &spheres, hearn_baker);
     // A closure, not the fn item: the item's `Fn::call` shim was left out of line (the loop then
@@ -575,6 +587,7 @@ fn main() {
     fs.push(&mut f_frame);
     fs.push(&mut f_f64_c_per_ray);
     fs.push(&mut f_frame4);
+    fs.push(&mut f_lecture_vsqrt);
     let ns = time_all(items, runs, &mut fs);
     // A second timing set, like the shadow rays of an ordinary scene: origins on the spheres of
     // tests/data/lit.toml, directions away from the surface.
@@ -625,6 +638,7 @@ fn main() {
             per_ray!(f64_c_per_ray),
             &mut || sum_shading(),
             &mut || sum_blocks(),
+            per_ray!(lecture_vsqrt),
         ],
     );
     let frame_errors = errors(&cases, |o, d, s| {
@@ -703,7 +717,7 @@ fn main() {
     ];
     println!("## Ray-sphere intersection\n");
     println!("{} hard rays ({} far/small up to distance/radius 1e5, the rest grounds of radius 1e3..1e6 seen from 1 above); ulp statistics on hits that do not graze.\n", cases.len(), cases.iter().filter(|c| !c.ground).count());
-    println!("| variant | plot marker | ns/test (median) | × lecture | max ulp, far/small | max ulp, ground | median ulp | ground max rel. error | false hits | misses | Cortex-M4F instructions/test |");
+    println!("| variant | plot marker | ns/test (median) | × lecture | max ulp, far/small | max ulp, ground | median ulp | ground max rel. error | false hits | misses | Cortex-M4F instructions/test (× lecture with vsqrt) |");
     println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (name, _, colour, e, t, key) in &rows {
         println!(
@@ -715,19 +729,35 @@ fn main() {
             e.max_rel_ground,
             e.false_hits,
             e.misses,
-            m4f.cell(key)
+            m4f.cell_vs(key, "primary_lecture_vsqrt")
         );
     }
+    // The lecture's formula with microray's square root: on hosts the same instruction as
+    // libm's (sqrtss), on the M4F `vsqrt.f32` instead of libm's software routine. Its errors
+    // are the lecture's; not plotted (on hosts it is the red point).
+    let e = errors(&cases, lecture_vsqrt);
+    println!(
+        "| lecture quadratic, microray's sqrt (vsqrt.f32 on M4F) | — | {:.2} | {:.2} | {:.3} | {:.3} | {:.2} | {:.1e} | {} | {} | {} |",
+        ns[7],
+        ns[7] / ns[0],
+        e.max_ulp_far,
+        e.max_ulp_ground,
+        e.median_ulp,
+        e.max_rel_ground,
+        e.false_hits,
+        e.misses,
+        m4f.cell_vs("primary_lecture_vsqrt", "primary_lecture_vsqrt")
+    );
     if m4f.0.is_ok() {
         let first = |key: &str, per: usize| m4f.cell(key).parse::<usize>().map_or(0, |n| n / per);
         println!(
-            "\nCortex-M4F instructions/test: counted by examples/firmware/numbench.sh in QEMU (mps2-an386, -icount), instructions not cycles (vdiv.f32 and vsqrt.f32 are one instruction of 14 cycles), on the first {} directions of this timing set and the first {} rays of the shadow-like one below, including the call of a variant that is not inlined, not the loop.",
+            "\nCortex-M4F instructions/test: counted by examples/firmware/numbench.sh in QEMU (mps2-an386, -icount), instructions not cycles (vdiv.f32 and vsqrt.f32 are one instruction of 14 cycles), on the first {} directions of this timing set and the first {} rays of the shadow-like one below, including the call of a variant that is not inlined, not the loop. The lecture's, geometric and Hearn-Baker rows call libm::sqrtf, a software routine on thumbv7em (~50 instructions); the ratios in brackets are to the lecture's formula with vsqrt.f32, as microray's rows use it, so that they compare formulas.",
             first("primary_tests", spheres.len()),
             first("shadow_tests", lit_spheres.len() - 1)
         );
     }
     println!("\nThe same per-ray variants timed on shadow-like rays of an ordinary scene (origins on the spheres of tests/data/lit.toml, directions away from the surface, the sphere left not tested; per-frame constants do not apply to rays of their own origin):\n");
-    println!("| variant | ns/test (median) | × lecture | Cortex-M4F instructions/test |");
+    println!("| variant | ns/test (median) | × lecture | Cortex-M4F instructions/test (× lecture with vsqrt) |");
     println!("|---|---:|---:|---:|");
     for (k, (name, key)) in [
         ("lecture quadratic", "shadow_lecture"),
@@ -746,6 +776,10 @@ fn main() {
             "default as shadow rays call it (Prepared::leaving_blocks: any hit, no root)",
             "shadow_leaving_blocks",
         ),
+        (
+            "lecture quadratic, microray's sqrt (vsqrt.f32 on M4F)",
+            "shadow_lecture_vsqrt",
+        ),
     ]
     .iter()
     .enumerate()
@@ -754,7 +788,7 @@ fn main() {
             "| {name} | {:.2} | {:.2} | {} |",
             ns2[k],
             ns2[k] / ns2[0],
-            m4f.cell(key)
+            m4f.cell_vs(key, "shadow_lecture_vsqrt")
         );
     }
     // How often the per-ray default computes the compensated c (~100 instructions more): the

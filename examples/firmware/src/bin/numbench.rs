@@ -223,6 +223,7 @@ fn main() -> ! {
         c.report(k, n, empty, || primary(dirs, primary_spheres, f))
     };
     p("primary_lecture", lecture);
+    p("primary_lecture_vsqrt", lecture_vsqrt);
     p("primary_geometric", geometric);
     p("primary_hearn_baker", hearn_baker);
     p("primary_default_per_ray", default_per_ray);
@@ -247,6 +248,7 @@ fn main() -> ! {
         })
     };
     p("shadow_lecture", lecture);
+    p("shadow_lecture_vsqrt", lecture_vsqrt);
     p("shadow_geometric", geometric);
     p("shadow_hearn_baker", hearn_baker);
     p("shadow_default_per_ray", default_per_ray);
