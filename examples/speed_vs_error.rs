@@ -581,6 +581,7 @@ fn main() {
     #[allow(clippy::redundant_closure)]
     let mut f_default = || sum_hits(eye, &dirs, &spheres, |o, d, s| default_per_ray(o, d, s));
     let mut f_f64_c_per_ray = || sum_hits(eye, &dirs, &spheres, f64_c_per_ray);
+    let mut f_f32_c_per_ray = || sum_hits(eye, &dirs, &spheres, f32_c_per_ray);
     let mut f_frame = || primary_frame(&dirs, &prepared);
     let mut f_frame4 = || primary_frame4(&dirs, &prepared);
     fs.push(&mut f_lecture);
@@ -591,6 +592,7 @@ fn main() {
     fs.push(&mut f_f64_c_per_ray);
     fs.push(&mut f_frame4);
     fs.push(&mut f_lecture_vsqrt);
+    fs.push(&mut f_f32_c_per_ray);
     let ns = time_all(items, runs, &mut fs);
     // A second timing set, like the shadow rays of an ordinary scene: origins on the spheres of
     // tests/data/lit.toml, directions away from the surface.
@@ -642,6 +644,7 @@ fn main() {
             &mut || sum_shading(),
             &mut || sum_blocks(),
             per_ray!(lecture_vsqrt),
+            per_ray!(f32_c_per_ray),
         ],
     );
     let frame_errors = errors(&cases, |o, d, s| {
@@ -728,6 +731,16 @@ fn main() {
             ns[7],
             "primary_lecture_vsqrt",
         ),
+        // What per-ray costs if the compensation cost nothing; its errors are the f32 c's.
+        // Not plotted: a bound, not a variant.
+        (
+            "floor: the default's roots with plain f32 c, never compensated",
+            NOT_PLOTTED,
+            "—",
+            errors(&cases, f32_c_per_ray),
+            ns[8],
+            "primary_f32_c_per_ray",
+        ),
     ];
     println!("## Ray-sphere intersection\n");
     println!("{} hard rays ({} far/small up to distance/radius 1e5, the rest grounds of radius 1e3..1e6 seen from 1 above); ulp statistics on hits that do not graze.\n", cases.len(), cases.iter().filter(|c| !c.ground).count());
@@ -749,7 +762,7 @@ fn main() {
     if m4f.0.is_ok() {
         let first = |key: &str, per: usize| m4f.cell(key).parse::<usize>().map_or(0, |n| n / per);
         println!(
-            "\nCortex-M4F instructions/test: counted by examples/firmware/numbench.sh in QEMU (mps2-an386, -icount), instructions not cycles (vdiv.f32 and vsqrt.f32 are one instruction of 14 cycles), on the first {} directions of this timing set and the first {} rays of the shadow-like one below, including the call of a variant that is not inlined, not the loop. The lecture's, geometric and Hearn-Baker rows call libm::sqrtf, a software routine on thumbv7em (~50 instructions); the ratios in brackets are to the lecture's formula with vsqrt.f32, as microray's rows use it, so that they compare formulas.",
+            "\nCortex-M4F instructions/test: counted by examples/firmware/numbench.sh in QEMU (mps2-an386, -icount), instructions not cycles (vdiv.f32 and vsqrt.f32 are one instruction of 14 cycles), on the first {} directions of this timing set and the first {} rays of the shadow-like one below, each variant inlined into its own copy of the loop (as here and in a renderer), the empty loop subtracted. The lecture's, geometric and Hearn-Baker rows call libm::sqrtf, a software routine on thumbv7em (~50 instructions); the ratios in brackets are to the lecture's formula with vsqrt.f32, as microray's rows use it, so that they compare formulas.",
             first("primary_tests", spheres.len()),
             first("shadow_tests", lit_spheres.len() - 1)
         );
@@ -777,6 +790,10 @@ fn main() {
         (
             "lecture quadratic, microray's sqrt (vsqrt.f32 on M4F)",
             "shadow_lecture_vsqrt",
+        ),
+        (
+            "floor: the default's roots with plain f32 c, never compensated",
+            "shadow_f32_c_per_ray",
         ),
     ]
     .iter()

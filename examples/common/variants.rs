@@ -100,6 +100,16 @@ pub fn default_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
     ray_intersect(&Ray::new(o, d), s, f32::MIN_POSITIVE, f32::INFINITY)
 }
 
+/// The default's roots with the plain f32 `c`, never compensated: wrong on the grounds (as the
+/// Hearn–Baker row), and not a variant to use. It is the floor under any per-ray remedy for `c`:
+/// what a ray of its own origin costs when the compensation costs nothing.
+#[inline(always)]
+pub fn f32_c_per_ray(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
+    let f = o - s.center;
+    let c = f.dot(f) - s.radius * s.radius;
+    Prepared { f, c, r: s.radius }.hit(d, f32::MIN_POSITIVE, f32::INFINITY)
+}
+
 /// The default's roots with `c` always through f64 (exact squares, one rounding of the sum):
 /// the remedy for huge spheres that microray used before its compensated f32 `c`.
 #[inline(always)]
