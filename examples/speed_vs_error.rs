@@ -407,7 +407,7 @@ impl M4f {
     }
 
     /// [`M4f::cell`] with its ratio to the count under `base` (the lecture's formula with the
-    /// same square root, so that the ratio compares formulas): "100.2 (1.86×)".
+    /// same square root, so that the ratio compares formulas): "67.4 (3.09×)".
     fn cell_vs(&self, key: &str, base: &str) -> String {
         let cell = self.cell(key);
         let num = |k: &str| self.0.as_ref().ok()?.get(k)?.parse::<f64>().ok();

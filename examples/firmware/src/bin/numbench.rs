@@ -20,8 +20,8 @@
 //! itself. Every variant is inlined into its own copy of the loop, as the host's harness and a
 //! renderer inline it. (Until the eleventh session the per-ray variants were called through a
 //! function pointer, with their arguments in memory: ~32 instructions a call that the inlined
-//! rows, the per-frame constants and `Prepared::leaving_*`, did not pay, so their ratios to the
-//! lecture's formula came out about half what they are.)
+//! rows, the per-frame constants and `Prepared::leaving_*`, did not pay, so those rows' ratios
+//! to the lecture's formula came out about half the real ones.)
 #![no_std]
 #![no_main]
 
