@@ -3,8 +3,9 @@
 //! `cargo run --release --example speed_vs_error [-- --quick] [--plot PATH]`
 //!
 //! Prints one table per question (intersection formula, square root, specular power, whole
-//! image) and writes `docs/speed_vs_error.png` (or PATH): every intersection variant as a point, ns per
-//! ray-sphere test (x, log) against the worst error of t in ulp on the hard ray sets (y, log).
+//! image) and writes `docs/speed_vs_error.png` (or PATH): every intersection variant as a point,
+//! ns per ray-sphere test (x, log) against the worst error of t in ulp on the hard ray sets
+//! (y, log).
 //! Times are medians over repeated, interleaved runs after a warm-up; the machine may be shared
 //! and noisy, so compare the ratios, which are measured in one run, not the absolute times.
 //! The "Cortex-M4F instructions/test" columns come from examples/firmware/numbench.sh, which
@@ -565,18 +566,13 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let quick = args.iter().any(|a| a == "--quick");
     // `--plot PATH`: CI runs the quick report without touching the committed plot.
-    let plot_path =
-        args.iter()
-            .position(|a| a == "--plot")
-            .map_or("docs/speed_vs_error.png", |k| {
-                args.get(k + 1).map_or_else(
-                    || {
-                        eprintln!("--plot needs a path");
-                        std::process::exit(2)
-                    },
-                    String::as_str,
-                )
-            });
+    let plot_path = match args.iter().position(|a| a == "--plot") {
+        None => "docs/speed_vs_error.png",
+        Some(k) => args.get(k + 1).map(String::as_str).unwrap_or_else(|| {
+            eprintln!("--plot needs a path");
+            std::process::exit(2)
+        }),
+    };
     let runs = if quick { 5 } else { 31 };
     let m4f = M4f::measure();
 
