@@ -437,15 +437,18 @@ impl Prepared {
         let c = ff - rr;
         let b = f.dot(d);
         // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f), so
-        // b² − ac is off by that times a, plus a few ε (b² + a ff) from b, b² and ac: below
-        // −2⁻¹⁷ (b² + a (ff + rr)) it misses the sphere's line whatever the rounding. Most tests
-        // are such misses, decided before the compensated c, as are spheres certainly behind.
-        // (A margin scaled by |c| instead, as `hit_ab`'s with an accurate c, is too small where
-        // c cancels: rays from 1 above a ground of radius 10⁶ that meet it 1 400 away missed.)
+        // b² − ac is off by that times a, plus a few ε (b² + a ff) from b, b² and ac, all below
+        // 2⁻²⁰ a (ff + rr) as b² ≤ a ff: below −2⁻¹⁶ a (ff + rr) it misses the sphere's line
+        // whatever the rounding. Most tests are such misses, decided before the compensated c,
+        // as are spheres certainly behind. (A margin scaled by |c| instead, as `hit_ab`'s with
+        // an accurate c, is too small where c cancels: rays from 1 above a ground of radius 10⁶
+        // that meet it 1 400 away missed.) Written `ac − 2⁻¹⁶ a (ff + rr) > b²`, where a or ff
+        // overflows is ∞ − ∞ = NaN, never a miss; `a (c − 2⁻¹⁶ (ff + rr))` would reject those
+        // (`leaving_overflow_is_no_clear_miss`).
         let sum = ff + rr;
         let a = d.dot(d);
         let bb = b * b;
-        if bb - a * c < -(bb + a * sum) * (1.0 / 131_072.0) {
+        if a * c - a * sum * (1.0 / 65_536.0) > bb {
             return None;
         }
         let err_c = sum * (1.0 / 1_048_576.0);
@@ -620,10 +623,13 @@ fn hit_ab_xyz(
     // lecture's formula costs: most tests are misses.
     // b² − ac is off by a few ε (b² + a|c|) (its rounding, and that of b and c); a value
     // below −2⁻¹⁸ of that misses the sphere's whole line whatever the rounding. Most tests
-    // are such misses: one branch first, and no Hearn–Baker divide for them.
+    // are such misses: one branch first, and no Hearn–Baker divide for them. The margin is
+    // written with `ac`, not `a|c|`: they differ only for c < 0, where b² − ac ≥ 0 is never
+    // below a margin of either sign, so the same tests are rejected, and `ac` is computed once.
     let bb = b * b;
-    let disc0 = bb - a * c;
-    if disc0 < -(bb + a * libm::fabsf(c)) * (1.0 / 262_144.0) {
+    let ac = a * c;
+    let disc0 = bb - ac;
+    if disc0 < -(bb + ac) * (1.0 / 262_144.0) {
         return None;
     }
     // Outside (c > 0) and heading away (b ≥ 0): both roots are negative.
@@ -687,8 +693,9 @@ fn hit_outside_xyz(
 ) -> Option<f32> {
     let (f, d) = (Vec3::new(fx, fy, fz), Vec3::new(dx, dy, dz));
     let bb = b * b;
-    let disc0 = bb - a * c;
-    if disc0 < -(bb + a * libm::fabsf(c)) * (1.0 / 262_144.0) {
+    let ac = a * c;
+    let disc0 = bb - ac;
+    if disc0 < -(bb + ac) * (1.0 / 262_144.0) {
         return None;
     }
     if b >= 0.0 && tmin >= 0.0 {
@@ -756,8 +763,8 @@ pub(crate) fn leaving_blocks4(
     tmax: f32,
     open: u32,
 ) -> (u32, u32) {
-    use crate::math::lanes::{bits, neg, F, V};
-    use wide::{CmpGe, CmpGt, CmpLe, CmpLt};
+    use crate::math::lanes::{bits, F, V};
+    use wide::{CmpGe, CmpGt, CmpLe};
     let f = anchor.sub(V::splat(sphere.center)).add(rel);
     let r = sphere.radius;
     let (ff, rr) = (f.dot(f), F::splat(r * r));
@@ -766,7 +773,7 @@ pub(crate) fn leaving_blocks4(
     let sum = ff + rr;
     let a = d.dot(d);
     let bb = b * b;
-    let clear = (bb - a * c).cmp_lt(neg(bb + a * sum) * F::splat(1.0 / 131_072.0));
+    let clear = (a * c - a * sum * F::splat(1.0 / 65_536.0)).cmp_gt(bb);
     let err_c = sum * F::splat(1.0 / 1_048_576.0);
     // `tmin ≥ 0` holds: `leaving_blocks` starts at the smallest normal number.
     let behind = c.cmp_gt(err_c) & b.cmp_ge(F::ZERO);
@@ -840,7 +847,6 @@ fn lanes_hit(
     use wide::{CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
     let v = f32x4::splat;
     let (fx, fy, fz) = (f.x, f.y, f.z);
-    let cabs = cv.abs();
     let (dx, dy, dz) = (d.x, d.y, d.z);
     let (tmin, zero, max) = (v(tmin), v(0.0), v(f32::MAX));
     // `d.dot(d)`, `f.dot(d)`: the same association as `Vec3::dot`.
@@ -848,8 +854,9 @@ fn lanes_hit(
     let b = fx * dx + fy * dy + fz * dz;
     // `hit_ab_xyz`'s steps, in its order.
     let bb = b * b;
-    let disc0 = bb - a * cv;
-    let clear_miss = disc0.cmp_lt(neg(bb + a * cabs) * v(1.0 / 262_144.0));
+    let ac = a * cv;
+    let disc0 = bb - ac;
+    let clear_miss = disc0.cmp_lt(neg(bb + ac) * v(1.0 / 262_144.0));
     let cpos = cv.cmp_gt(zero);
     let behind = cpos & b.cmp_ge(zero) & tmin.cmp_ge(zero);
     let open = !(clear_miss | behind);

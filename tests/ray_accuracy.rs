@@ -332,6 +332,73 @@ fn overflowing_magnitudes_are_the_in_range_roots_scaled() {
     assert!(hits * 4 > n, "{hits} hits of {n}");
 }
 
+/// Rays leaving a surface with directions so long that `d·d` overflows f32 (|d| = 2⁶⁵), towards
+/// small spheres close by (so that `b²` does not overflow): the hits are those of the same
+/// rays with a unit direction, t scaled back (to 4 ulp), for mirror and shadow rays alike.
+/// A clear-miss test written `a (c − margin) > b²` takes all of these for misses (∞ > b²);
+/// `fused` writes it so that an overflow gives NaN, never a miss.
+#[test]
+fn leaving_overflow_is_no_clear_miss() {
+    let mut g = Rng(65);
+    let p65 = 36_893_488_147_419_103_232.0f32; // 2⁶⁵
+    let (mut n, mut hits) = (0, 0);
+    for _ in 0..20_000 {
+        // A sphere of radius 10⁻³ … 10⁻¹ whose centre is 0.1 … 0.4 from the ray's origin, the
+        // origin on the surface of a unit sphere (the anchor) at 10³.
+        let r = 10f64.powf(g.range(-3.0, -1.0));
+        let base = [1e3, -1e3, 1e3];
+        let u = g.dir();
+        let anchor = v32(base);
+        let rel = v32(u);
+        let o = [0, 1, 2].map(|i| base[i] + u[i]);
+        let w = g.dir();
+        let dist = g.range(0.1, 0.4).max(2.0 * r);
+        let m = [0, 1, 2].map(|i| o[i] + w[i] * dist);
+        let s = Sphere::new(v32(m), r as f32);
+        // aimed within 1.5 r of the centre, not within 10% of the edge (where the two paths'
+        // few ulp may decide differently)
+        let e = g.dir();
+        let k = if g.u() < 0.7 {
+            g.range(0.0, 0.9)
+        } else {
+            g.range(1.1, 1.5)
+        } * r;
+        let d = [0, 1, 2].map(|i| m[i] + e[i] * k - o[i]);
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let d = v32(d.map(|x| x / len));
+        let long = d * p65;
+        let b = long.dot(rel + (anchor - s.center));
+        assert!(
+            !long.dot(long).is_finite() && (b * b).is_finite(),
+            "{long:?} {b}"
+        );
+        let short = Prepared::leaving_hit(anchor, rel, &s, d, f32::MIN_POSITIVE, f32::INFINITY);
+        let got = Prepared::leaving_hit(anchor, rel, &s, long, f32::MIN_POSITIVE, f32::INFINITY);
+        // The long ray takes the scaled path (`roots_scaled`), its own roundings: a few ulp.
+        let close = match (got, short) {
+            (Some((t, _)), Some((ts, _))) => {
+                let ulp = f64::from(ts) * f64::from(f32::EPSILON);
+                (f64::from(t * p65) - f64::from(ts)).abs() <= 4.0 * ulp
+            }
+            (None, None) => true,
+            _ => false,
+        };
+        assert!(
+            close,
+            "{got:?} against {short:?}: {s:?} from {anchor:?} + {rel:?} along {d:?}"
+        );
+        let blocked = Prepared::leaving_blocks(anchor, rel, &s, long, f32::INFINITY);
+        assert_eq!(
+            blocked,
+            short.is_some(),
+            "{s:?} from {anchor:?} + {rel:?} along {d:?}"
+        );
+        n += 1;
+        hits += short.is_some() as usize;
+    }
+    assert!(hits * 3 > n, "{hits} hits of {n}");
+}
+
 /// Shadow and mirror rays leaving a surface never meet it again: 10⁶ random hits on spheres of
 /// radius 10⁻² … 10² with centres up to 10⁴ from the origin, seen from outside and inside.
 #[test]
