@@ -376,9 +376,9 @@ fn leaving_overflow_is_no_clear_miss() {
         let got = Prepared::leaving_hit(anchor, rel, &s, long, f32::MIN_POSITIVE, f32::INFINITY);
         // The long ray takes the scaled path (`roots_scaled`), its own roundings: a few ulp.
         let close = match (got, short) {
+            // Both positive: their bit patterns differ by their distance in ulp.
             (Some((t, _)), Some((ts, _))) => {
-                let ulp = f64::from(ts) * f64::from(f32::EPSILON);
-                (f64::from(t * p65) - f64::from(ts)).abs() <= 4.0 * ulp
+                ((t * p65).to_bits() as i64 - ts.to_bits() as i64).abs() <= 4
             }
             (None, None) => true,
             _ => false,
