@@ -399,6 +399,53 @@ fn leaving_overflow_is_no_clear_miss() {
     assert!(hits * 3 > n, "{hits} hits of {n}");
 }
 
+/// Shading scales a point light's shadow ray `v` by 2⁶⁴ (and its `t` range by 2⁻⁶⁴) when
+/// `|v|² < 2⁻⁴⁰` (`shading::shadow_ray`), so that a tiny scene's tests do not underflow. That
+/// is right only if the tests give the same answer for the scaled ray: here on rays of length
+/// 2⁻⁴⁰ … 2⁻²⁰ from near the surface of spheres of radius 2⁻¹⁰ … 2⁴⁰ (for the largest the
+/// scaled products overflow, and take the scaled roots), `leaving_blocks` and `leaving_hit`
+/// alike.
+#[test]
+fn shadow_tests_answer_the_same_for_a_ray_scaled_by_2_64() {
+    let mut g = Rng(264);
+    let up = 18_446_744_073_709_551_616.0f32; // 2⁶⁴
+    let below = 1.0 - f32::EPSILON / 2.0;
+    let (mut n, mut blocked) = (0, 0);
+    for _ in 0..200_000 {
+        let r = 2f64.powf(g.range(-10.0, 40.0));
+        let m = [g.range(-1.0, 1.0) * r, r * g.range(-3.0, 3.0), 0.3 * r];
+        let s = Sphere::new(v32(m), r as f32);
+        // An origin from half the ray's length inside the surface to 1.5 of it outside (where
+        // f32 resolves that: the smaller spheres; for the others it falls where the rounding
+        // puts it), and the ray from it towards a point on, near or inside the sphere.
+        let len = 2f64.powf(g.range(-40.0, -20.0));
+        let u = g.dir();
+        let h = len * g.range(-0.5, 1.5);
+        let p = [0, 1, 2].map(|i| m[i] + u[i] * (r + h));
+        let anchor = v32([m[0] + 3.0 * r, m[1], m[2]]);
+        let rel = v32([0, 1, 2].map(|i| p[i] - v64(anchor)[i]));
+        let w = g.dir();
+        let target = [0, 1, 2].map(|i| m[i] + w[i] * r * g.range(0.0, 1.2));
+        let d = [0, 1, 2].map(|i| target[i] - p[i]);
+        let dl = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        // The segment ends at the target only when it is that close; otherwise it stops short.
+        let v = v32(d.map(|x| x / dl * len.min(dl)));
+        let plain = Prepared::leaving_blocks(anchor, rel, &s, v, below);
+        let scaled = Prepared::leaving_blocks(anchor, rel, &s, v * up, below / up);
+        assert_eq!(plain, scaled, "{s:?} from {anchor:?} + {rel:?} along {v:?}");
+        let full = Prepared::leaving_hit(anchor, rel, &s, v * up, f32::MIN_POSITIVE, below / up);
+        assert_eq!(
+            full.is_some(),
+            plain,
+            "{s:?} from {anchor:?} + {rel:?} along {v:?}"
+        );
+        n += 1;
+        blocked += plain as usize;
+    }
+    println!("{n} rays, {blocked} blocked");
+    assert!(blocked > n / 100, "{blocked} of {n} blocked");
+}
+
 /// Shadow and mirror rays leaving a surface never meet it again: 10⁶ random hits on spheres of
 /// radius 10⁻² … 10² with centres up to 10⁴ from the origin, seen from outside and inside.
 #[test]
