@@ -852,6 +852,92 @@ fn main() {
         per_mille(k_new, n),
         per_mille(k_shading, n),
     );
+    // The secondary rays that rendering lit.toml (its sun) and mirror.toml (first bounces)
+    // casts: the per-ray paths on the rays a renderer asks about.
+    let mirror: Box<Desktop> = Box::new(scene_file::load("tests/data/mirror.toml").unwrap());
+    assert_eq!(
+        lit_spheres, LIT_SPHERES,
+        "variants.rs's copy of tests/data/lit.toml"
+    );
+    assert_eq!(
+        mirror.scene.spheres(),
+        LIT_SPHERES,
+        "mirror.toml's spheres are lit.toml's"
+    );
+    println!("\nThe same variants on the secondary rays that rendering tests/data/lit.toml and mirror.toml casts (160×120, one ray a pixel): the directional light's shadow rays from every primary hit that faces it, which shading tests with Prepared::leaving_blocks, and the first mirror bounces, which it tests with Prepared::leaving_hit (the point light's shadow rays are cast from the light with per-frame constants, as primary rays are). Unlike the shadow-like set above, whose directions cover each point's whole hemisphere, these are the rays a render asks about:\n");
+    println!("| rays | tests | variant | ns/test (median) | × lecture | Cortex-M4F instructions/test (× lecture with vsqrt) |");
+    println!("|---|---:|---|---:|---:|---:|");
+    for (kind, key) in [(Secondary::Sun, "sun"), (Secondary::Mirror, "mirror")] {
+        let mut rays = vec![(Vec3::ZERO, Vec3::ZERO, 0); 19_200];
+        let len = recorded_rays(kind, &mut rays);
+        rays.truncate(len);
+        let tests = rays.len() * (LIT_SPHERES.len() - 1);
+        let (lo, hi) = (f32::MIN_POSITIVE, f32::INFINITY);
+        let (what, call) = match kind {
+            Secondary::Sun => ("lit.toml's sun", "shadow rays: Prepared::leaving_blocks"),
+            Secondary::Mirror => (
+                "mirror.toml's bounces",
+                "mirror rays: Prepared::leaving_hit",
+            ),
+        };
+        let ns3 = time_all(
+            tests,
+            runs,
+            &mut [
+                &mut || shadow_loop(&rays, &LIT_SPHERES, |o, _, _, s, d| lecture(o, d, s)),
+                &mut || {
+                    shadow_loop(&rays, &LIT_SPHERES, |o, _, _, s, d| {
+                        default_per_ray(o, d, s)
+                    })
+                },
+                &mut || {
+                    shadow_loop(&rays, &LIT_SPHERES, |_, anchor, rel, s, d| {
+                        Prepared::leaving_blocks(anchor, rel, s, d, hi).then_some(1.0)
+                    })
+                },
+                &mut || {
+                    shadow_loop(&rays, &LIT_SPHERES, |_, anchor, rel, s, d| {
+                        Prepared::leaving_hit(anchor, rel, s, d, lo, hi).map(|(t, _)| t)
+                    })
+                },
+            ],
+        );
+        // Each set's own: the sun's shadow rays' blocks, the bounces' hits.
+        let shading = ns3[if kind == Secondary::Sun { 2 } else { 3 }];
+        let call = format!("default as shading calls it ({call})");
+        for (name, variant, ns) in [
+            ("lecture quadratic", "lecture", ns3[0]),
+            (
+                "default, per ray (ray_intersect)",
+                "default_per_ray",
+                ns3[1],
+            ),
+            (call.as_str(), "shading", shading),
+        ] {
+            println!(
+                "| {what} | {tests} | {name} | {ns:.2} | {:.2} | {} |",
+                ns / ns3[0],
+                m4f.cell_vs(&format!("{key}_{variant}"), &format!("{key}_lecture_vsqrt"))
+            );
+        }
+        if m4f.0.is_ok() {
+            println!(
+                "| {what} | | lecture quadratic, microray's sqrt (vsqrt.f32 on M4F) | | | {} |",
+                m4f.cell_vs(
+                    &format!("{key}_lecture_vsqrt"),
+                    &format!("{key}_lecture_vsqrt")
+                )
+            );
+        }
+    }
+    if m4f.0.is_ok() {
+        let first = |key: &str| m4f.cell(key).parse::<usize>().map_or(0, |n| n / 3);
+        println!(
+            "\nCortex-M4F columns: the first {} and {} rays of each set (RAM), as counted by numbench.",
+            first("sun_tests"),
+            first("mirror_tests")
+        );
+    }
     if let Some(dir) = std::path::Path::new(plot_path).parent() {
         if !dir.as_os_str().is_empty() {
             std::fs::create_dir_all(dir).unwrap();

@@ -276,3 +276,77 @@ pub fn shadow_ray(spheres: &[Sphere], k: usize, n: [f64; 3], d: [f64; 3]) -> (Ve
         i,
     )
 }
+
+// ---- secondary rays that a render casts --------------------------------------------------------
+// The shadow-like set above draws its directions over the whole hemisphere of each surface
+// point, so a quarter of its rays leave the underside of the balls straight into the ground,
+// which a light above the scene never asks for. These sets are the rays that rendering
+// tests/data/lit.toml and mirror.toml actually casts, from the same pixels on both sides.
+
+/// The spheres of tests/data/lit.toml and mirror.toml, in file order (the two files differ only
+/// in materials, lights' settings aside).
+pub const LIT_SPHERES: [Sphere; 4] = [
+    Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0),
+    Sphere::new(Vec3::new(-1.2, 0.8, 0.0), 0.8),
+    Sphere::new(Vec3::new(1.0, 0.6, 0.5), 0.6),
+    Sphere::new(Vec3::new(0.2, 0.25, 1.8), 0.25),
+];
+
+/// The spheres of mirror.toml with a mirror colour: the ground (0.2) and the blue ball (0.5).
+pub const MIRROR_SPHERES: [usize; 2] = [0, 2];
+
+/// Which secondary rays [`recorded_rays`] collects.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Secondary {
+    /// lit.toml's directional light, from every primary hit whose normal faces it (`n·l > 0`):
+    /// the rays shading tests with `Prepared::leaving_blocks`. (Its point light's shadow rays
+    /// are cast from the light with per-frame constants, the primary rays' path.)
+    Sun,
+    /// mirror.toml's first bounces: from every primary hit on a mirror, the reflected direction,
+    /// tested with `Prepared::leaving_hit`.
+    Mirror,
+}
+
+/// Fills `out` with the rays of `kind` that a 160×120 render of lit.toml / mirror.toml casts, as
+/// `(hit point, direction, sphere left)` for [`shadow_loop`], and returns how many it filled.
+/// Pixels are visited in the order `k·7919 mod 19200`, a permutation that spreads any prefix
+/// over the whole image (the firmware keeps only a prefix). The hits come from microray's
+/// `Scene::find_intersection`, which both sides share.
+pub fn recorded_rays(kind: Secondary, out: &mut [(Vec3, Vec3, usize)]) -> usize {
+    let up = Vec3::new(0.0, 1.0, 0.0);
+    let (eye, look_at) = (Vec3::new(0.0, 1.0, 6.0), Vec3::new(0.0, 0.5, 0.0));
+    let (w, h) = (160u32, 120u32);
+    let (Ok(camera), Some(sun)) = (
+        microray::Camera::new(eye, look_at, up, 45.0, w, h),
+        Vec3::new(-1.0, 1.0, 0.5).normalized(),
+    ) else {
+        return 0;
+    };
+    let mut scene: microray::Scene<4, 0> = microray::Scene::new();
+    for s in LIT_SPHERES {
+        if scene.add_sphere(s, microray::Material::default()).is_err() {
+            return 0;
+        }
+    }
+    let mut n = 0;
+    for k in 0..w * h {
+        if n == out.len() {
+            break;
+        }
+        let p = (k as u64 * 7919 % (w * h) as u64) as u32;
+        let ray = camera.ray((p % w) as f32 + 0.5, (p / w) as f32 + 0.5);
+        let Some(hit) = scene.find_intersection(&ray, 0.0, f32::INFINITY) else {
+            continue;
+        };
+        let d = match kind {
+            Secondary::Sun if hit.normal.dot(sun) > 0.0 => sun,
+            Secondary::Mirror if MIRROR_SPHERES.contains(&hit.sphere) => {
+                microray::shading::reflect(&ray, &hit).dir
+            }
+            _ => continue,
+        };
+        out[n] = (hit.point(), d, hit.sphere);
+        n += 1;
+    }
+    n
+}

@@ -9,8 +9,10 @@
 //!
 //! - `primary_*`: one eye, the host's eight spheres (a radius-10⁶ ground seen from 1 above, a
 //!   10⁻⁴ sphere 10 away, a sphere 10⁴ away, ...), `PRIMARY_DIRS` directions;
-//! - `shadow_*`: rays leaving the spheres of tests/data/lit.toml (copied below), the sphere left
-//!   not tested;
+//! - `shadow_*`: rays leaving the spheres of tests/data/lit.toml (`LIT_SPHERES`), the sphere
+//!   left not tested;
+//! - `sun_*`, `mirror_*`: the directional light's shadow rays and the first mirror bounces that a
+//!   render of lit.toml and mirror.toml casts (`recorded_rays`), in the `shadow_*` static again;
 //! - `sqrt_*`, `pow_s*_*`: the host's argument distributions (10^[−8, 8) and [0.5, 1)).
 //!
 //! Counting as in main.rs: QEMU `-icount shift=0` advances its clock a fixed time per
@@ -121,13 +123,6 @@ const SET: usize = 128;
 
 const PRIMARY_DIRS: usize = SET;
 
-/// The spheres of tests/data/lit.toml, in file order (speed_vs_error's shadow-like set).
-const LIT_SPHERES: [Sphere; 4] = [
-    Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0),
-    Sphere::new(Vec3::new(-1.2, 0.8, 0.0), 0.8),
-    Sphere::new(Vec3::new(1.0, 0.6, 0.5), 0.6),
-    Sphere::new(Vec3::new(0.2, 0.25, 1.8), 0.25),
-];
 const SHADOW_RAYS: usize = SET;
 
 /// Arguments of the square roots and the specular powers.
@@ -202,10 +197,11 @@ fn main() -> ! {
         )
     };
     generate(dirs, rays, xs, ps);
+    let buffer = rays;
     // Through black_box: the loops must read the data, not fold the constants into the tests.
     let (dirs, rays, xs, ps): (&[Vec3], &[_], &[f32], &[f32]) = (
         black_box(dirs),
-        black_box(rays),
+        black_box(&*buffer),
         black_box(xs),
         black_box(ps),
     );
@@ -316,6 +312,32 @@ fn main() -> ! {
         hprintln!("pow_s{}_squaring={}", s, squaring);
         let schlick = c.per_test(n, empty, || each(ps, |x| pow_schlick(x, black_box(sf))));
         hprintln!("pow_s{}_schlick={}", s, schlick);
+    }
+    // Secondary rays that a render casts, in the shadow-like set's buffer (done with it).
+    for (kind, key) in [(Secondary::Sun, "sun"), (Secondary::Mirror, "mirror")] {
+        let len = recorded_rays(kind, buffer);
+        let rays: &[_] = black_box(&buffer[..len]);
+        let n = rays.len() * (lit.len() - 1);
+        let empty = c.count(|| shadow_loop(rays, lit, |_, _, _, _, _| black_box(None)));
+        hprintln!("{}_tests={}", key, n);
+        macro_rules! r {
+            ($name:expr, $f:expr) => {{
+                let k = c.per_test(n, empty, || shadow_loop(rays, lit, $f));
+                hprintln!("{}_{}={}", key, $name, k)
+            }};
+        }
+        r!("lecture", |o, _, _, s, d| lecture(o, d, s));
+        r!("lecture_vsqrt", |o, _, _, s, d| lecture_vsqrt(o, d, s));
+        r!("default_per_ray", |o, _, _, s, d| default_per_ray(o, d, s));
+        // As shading tests them: any hit for the sun's shadow rays, the closest for mirror rays.
+        match kind {
+            Secondary::Sun => r!("shading", |_, anchor, rel, s, d| {
+                Prepared::leaving_blocks(anchor, rel, s, d, hi).then_some(1.0)
+            }),
+            Secondary::Mirror => r!("shading", |_, anchor, rel, s, d| {
+                Prepared::leaving_hit(anchor, rel, s, d, lo, hi).map(|(t, _)| t)
+            }),
+        }
     }
     hprintln!("done=1");
     exit(true)
