@@ -560,6 +560,92 @@ fn plot(points: &[(f64, f64, [u8; 3])], path: &str) {
     pm.save_png(path).unwrap();
 }
 
+/// The [`Sun`] prototype against `Prepared::leaving_blocks` on shadow rays from random points
+/// of each scene's spheres, towards random light directions and towards directions that graze
+/// another sphere: (tests, decided without the fallback, disagreements). Scenes: lit.toml's
+/// spheres as they are, moved by (10⁴, 10⁴, −10⁴), scaled by 10⁻⁴ and by 10⁴, and random scenes
+/// of 8 spheres (radii 0.05–2 in a box of 10).
+fn sun_agreement(rays_per_scene: usize) -> (usize, usize, usize) {
+    let mut g = Rng(SEED_SHADOW + 1);
+    let moved = |t: Vec3, k: f32| LIT_SPHERES.map(|s| Sphere::new(s.center * k + t, s.radius * k));
+    let mut scenes: Vec<Vec<Sphere>> = vec![
+        LIT_SPHERES.to_vec(),
+        moved(Vec3::new(1e4, 1e4, -1e4), 1.0).to_vec(),
+        moved(Vec3::ZERO, 1e-4).to_vec(),
+        moved(Vec3::ZERO, 1e4).to_vec(),
+    ];
+    for _ in 0..4 {
+        scenes.push(
+            (0..SUN_MAX)
+                .map(|_| {
+                    let c = [g.range(-5.0, 5.0), g.range(-5.0, 5.0), g.range(-5.0, 5.0)];
+                    let c = Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
+                    Sphere::new(c, g.range(0.05, 2.0) as f32)
+                })
+                .collect(),
+        );
+    }
+    let f64s = |v: Vec3| [v.x as f64, v.y as f64, v.z as f64];
+    let unit32 = |v: [f64; 3]| Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32).normalized();
+    let (mut tests, mut decided, mut wrong) = (0, 0, 0);
+    let mut test = |spheres: &[Sphere], sun: &Sun, i: usize, rel: Vec3| {
+        let anchor = spheres[i].center;
+        let p = sun.project(anchor, rel);
+        for (j, s) in spheres.iter().enumerate() {
+            if j != i {
+                tests += 1;
+                if let Some(b) = sun.decide(p, j) {
+                    decided += 1;
+                    let full = Prepared::leaving_blocks(anchor, rel, s, sun.dir(), f32::INFINITY);
+                    wrong += (b != full) as usize;
+                }
+            }
+        }
+    };
+    for spheres in &scenes {
+        let pick = |g: &mut Rng| (g.next() % spheres.len() as u64) as usize;
+        // Random points towards random light directions ...
+        for _ in 0..rays_per_scene / 32 {
+            let Some(l) = unit32(g.dir()) else { continue };
+            let sun = Sun::new(spheres, l).unwrap();
+            for _ in 0..16 {
+                let (i, n) = (pick(&mut g), unit32(g.dir()).unwrap());
+                if n.dot(l) > 0.0 {
+                    test(spheres, &sun, i, n * spheres[i].radius);
+                }
+            }
+        }
+        // ... and towards a point within a relative 10⁻⁴ of a tangent point of another sphere
+        // seen from the point: the silhouettes, where a decision is closest to wrong.
+        for _ in 0..rays_per_scene / 2 {
+            let (i, j) = (pick(&mut g), pick(&mut g));
+            let (si, sj) = (spheres[i], spheres[j]);
+            let rel = unit32(g.dir()).unwrap() * si.radius;
+            let (o, m, r) = (f64s(si.center + rel), f64s(sj.center), sj.radius as f64);
+            let f = [o[0] - m[0], o[1] - m[1], o[2] - m[2]];
+            let dd = f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
+            if i == j || dd <= r * r {
+                continue;
+            }
+            // The tangent points from o: m + (r²/D²) f + (r √(D² − r²)/D) w, w a unit across f.
+            let w = g.dir();
+            let wf = (w[0] * f[0] + w[1] * f[1] + w[2] * f[2]) / dd;
+            let w = [w[0] - wf * f[0], w[1] - wf * f[1], w[2] - wf * f[2]];
+            let wn = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+            let (a, b) = (r * r / dd, r * (dd - r * r).sqrt() / dd.sqrt() / wn);
+            let k = 1.0 + g.range(-1e-4, 1e-4);
+            let q: Vec<f64> = (0..3).map(|n| m[n] + (a * f[n] + b * w[n]) * k).collect();
+            let Some(l) = unit32([q[0] - o[0], q[1] - o[1], q[2] - o[2]]) else {
+                continue;
+            };
+            if rel.dot(l) > 0.0 {
+                test(spheres, &Sun::new(spheres, l).unwrap(), i, rel);
+            }
+        }
+    }
+    (tests, decided, wrong)
+}
+
 // ---- main ---------------------------------------------------------------------------------------
 
 fn main() {
@@ -864,9 +950,23 @@ fn main() {
         LIT_SPHERES,
         "mirror.toml's spheres are lit.toml's"
     );
+    let mirrors: Vec<usize> = (0..LIT_SPHERES.len())
+        .filter(|&i| mirror.scene.materials()[i].mirror != microray::Color::ZERO)
+        .collect();
+    assert_eq!(
+        mirrors, MIRROR_SPHERES,
+        "variants.rs's mirrors of mirror.toml"
+    );
+    match lit.scene.lights()[1] {
+        microray::Light::Directional { direction, .. } => {
+            assert_eq!(-direction, lit_sun(), "variants.rs's sun of lit.toml")
+        }
+        _ => panic!("lit.toml's second light is its sun"),
+    }
     println!("\nThe same variants on the secondary rays that rendering tests/data/lit.toml and mirror.toml casts (160×120, one ray a pixel): the directional light's shadow rays from every primary hit that faces it, which shading tests with Prepared::leaving_blocks, and the first mirror bounces, which it tests with Prepared::leaving_hit (the point light's shadow rays are cast from the light with per-frame constants, as primary rays are). Unlike the shadow-like set above, whose directions cover each point's whole hemisphere, these are the rays a render asks about:\n");
     println!("| rays | tests | variant | ns/test (median) | × lecture | Cortex-M4F instructions/test (× lecture with vsqrt) |");
     println!("|---|---:|---|---:|---:|---:|");
+    let sun = Sun::new(&LIT_SPHERES, lit_sun()).unwrap();
     for (kind, key) in [(Secondary::Sun, "sun"), (Secondary::Mirror, "mirror")] {
         let mut rays = vec![(Vec3::ZERO, Vec3::ZERO, 0); 19_200];
         let len = recorded_rays(kind, &mut rays);
@@ -900,6 +1000,11 @@ fn main() {
                         Prepared::leaving_hit(anchor, rel, s, d, lo, hi).map(|(t, _)| t)
                     })
                 },
+                &mut || {
+                    sun_loop(&rays, &LIT_SPHERES, &sun, |anchor, rel, s, d| {
+                        Prepared::leaving_blocks(anchor, rel, s, d, hi)
+                    })
+                },
             ],
         );
         // Each set's own: the sun's shadow rays' blocks, the bounces' hits.
@@ -913,7 +1018,15 @@ fn main() {
                 ns3[1],
             ),
             (call.as_str(), "shading", shading),
+            (
+                "prototype: per-frame constants of the light's direction (Sun), the rest by leaving_blocks",
+                "frame",
+                if kind == Secondary::Sun { ns3[4] } else { f64::NAN },
+            ),
         ] {
+            if ns.is_nan() {
+                continue;
+            }
             println!(
                 "| {what} | {tests} | {name} | {ns:.2} | {:.2} | {} |",
                 ns / ns3[0],
@@ -930,6 +1043,15 @@ fn main() {
             );
         }
     }
+    let (tests, decided, wrong) = sun_agreement(if quick { 20_000 } else { 200_000 });
+    println!(
+        "\nThe prototype (`Sun` in examples/common/variants.rs: per frame, every sphere projected across the light's direction; per ray, the origin; per test, a 2D distance, and the full test only where the projections' error bound leaves the answer open) against Prepared::leaving_blocks on {tests} tests from random points of lit.toml's spheres (also moved by 10⁴, scaled by 10⁻⁴ and 10⁴) and of random scenes, towards random light directions and directions that graze another sphere within 10⁻⁴ of its radius: {decided} ({:.1}%) decided without the full test, {wrong} of them answered differently.",
+        100.0 * decided as f64 / tests as f64
+    );
+    assert_eq!(
+        wrong, 0,
+        "the Sun prototype must give leaving_blocks's answers"
+    );
     if m4f.0.is_ok() {
         let first = |key: &str| m4f.cell(key).parse::<usize>().map_or(0, |n| n / 3);
         println!(

@@ -295,6 +295,14 @@ pub const LIT_SPHERES: [Sphere; 4] = [
 /// The spheres of mirror.toml with a mirror colour: the ground (0.2) and the blue ball (0.5).
 pub const MIRROR_SPHERES: [usize; 2] = [0, 2];
 
+/// The unit vector towards lit.toml's and mirror.toml's directional light (`direction = [1, −1,
+/// −0.5]`), normalised as microray's scene does it.
+pub fn lit_sun() -> Vec3 {
+    -Vec3::new(1.0, -1.0, -0.5)
+        .normalized()
+        .unwrap_or(Vec3::ZERO)
+}
+
 /// Which secondary rays [`recorded_rays`] collects.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Secondary {
@@ -316,12 +324,10 @@ pub fn recorded_rays(kind: Secondary, out: &mut [(Vec3, Vec3, usize)]) -> usize 
     let up = Vec3::new(0.0, 1.0, 0.0);
     let (eye, look_at) = (Vec3::new(0.0, 1.0, 6.0), Vec3::new(0.0, 0.5, 0.0));
     let (w, h) = (160u32, 120u32);
-    let (Ok(camera), Some(sun)) = (
-        microray::Camera::new(eye, look_at, up, 45.0, w, h),
-        Vec3::new(-1.0, 1.0, 0.5).normalized(),
-    ) else {
+    let Ok(camera) = microray::Camera::new(eye, look_at, up, 45.0, w, h) else {
         return 0;
     };
+    let sun = lit_sun();
     let mut scene: microray::Scene<4, 0> = microray::Scene::new();
     for s in LIT_SPHERES {
         if scene.add_sphere(s, microray::Material::default()).is_err() {
@@ -349,4 +355,185 @@ pub fn recorded_rays(kind: Secondary, out: &mut [(Vec3, Vec3, usize)]) -> usize 
         n += 1;
     }
     n
+}
+
+// ---- a prototype: per-frame constants for a directional light's shadow rays ---------------------
+// Not microray's code path (yet): a measured answer to whether shadow rays that share a
+// direction, as primary rays share an origin, can be tested for less than the lecture's formula
+// with the same answers. Every sphere is projected once per frame onto the plane across the
+// light's direction `l` (coordinates u, v) and onto `l` (w), from a reference point `e` of the
+// scene (the first sphere's centre), so that a test is a 2D distance. Coordinates are taken
+// relative to `e` and from `(anchor − e) + rel`, so their error scales with the scene's extent
+// `S` around `e`, not with its distance from the origin (the same reason as `Hit::anchor`).
+// Each decision is made only where it is certain under that error; elsewhere the test falls
+// back to `Prepared::leaving_blocks`. Up to `SUN_MAX` spheres.
+
+/// The prototype's capacity.
+pub const SUN_MAX: usize = 8;
+
+/// One sphere's per-frame constants for [`Sun`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SunSphere {
+    u: f32,
+    v: f32,
+    w: f32,
+    /// `r²` and the bounds beyond which the line's distance² certainly passes outside (`hi`) or
+    /// inside (`lo`) the sphere, whatever the projections' error.
+    rr: f32,
+    hi: f32,
+    lo: f32,
+    /// How far from 0 `|f|² − r²` (from the projections) must be to give the origin's side.
+    mc: f32,
+}
+
+/// Per-frame constants of a directional light's shadow rays (see the section's comment).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sun {
+    l: Vec3,
+    eu: Vec3,
+    ev: Vec3,
+    e: Vec3,
+    /// The bound on the error of a projected coordinate (and of their differences).
+    delta: f32,
+    s: [SunSphere; SUN_MAX],
+}
+
+impl Sun {
+    /// The constants for the unit direction `l` towards the light, or `None` (too many spheres,
+    /// or a value that is not finite).
+    pub fn new(spheres: &[Sphere], l: Vec3) -> Option<Sun> {
+        let e = spheres.first()?.center;
+        if spheres.len() > SUN_MAX {
+            return None;
+        }
+        // A unit vector across l from the axis along which l is shortest, and the third axis.
+        let (ax, ay, az) = (libm::fabsf(l.x), libm::fabsf(l.y), libm::fabsf(l.z));
+        let axis = if ax <= ay && ax <= az {
+            Vec3::new(1.0, 0.0, 0.0)
+        } else if ay <= az {
+            Vec3::new(0.0, 1.0, 0.0)
+        } else {
+            Vec3::new(0.0, 0.0, 1.0)
+        };
+        let eu = l.cross(axis).normalized()?;
+        let ev = l.cross(eu);
+        // The extent around e: every origin (on a sphere) and centre is within `extent` of it.
+        let mut extent = 0.0f32;
+        for s in spheres {
+            extent = extent.max((s.center - e).length() + s.radius);
+        }
+        // Each projected coordinate is off by a few ε S (the sums that make the point, the
+        // dot product, the basis's own ε): 32 ε S bounds that with room to spare, for the
+        // coordinates and for their difference.
+        let delta = 32.0 * f32::EPSILON * extent;
+        let mut s = [SunSphere {
+            u: 0.0,
+            v: 0.0,
+            w: 0.0,
+            rr: 0.0,
+            hi: 0.0,
+            lo: 0.0,
+            mc: 0.0,
+        }; SUN_MAX];
+        for (k, sphere) in spheres.iter().enumerate() {
+            let (d, r) = (sphere.center - e, sphere.radius);
+            let rr = r * r;
+            // |h2 − h²| ≤ 2√2 h δ + 2δ² + 3ε h² near h ≈ r (see `blocks`); rounded up.
+            let m = 3.0 * r * delta + 3.0 * delta * delta + 4.0 * f32::EPSILON * rr;
+            s[k] = SunSphere {
+                u: d.dot(eu),
+                v: d.dot(ev),
+                w: d.dot(l),
+                rr,
+                hi: rr + m,
+                lo: rr - m,
+                mc: 6.0 * r * delta + 6.0 * delta * delta + 10.0 * f32::EPSILON * rr,
+            };
+        }
+        let finite = |x: f32| x.is_finite();
+        let ok = finite(delta)
+            && s.iter()
+                .all(|k| finite(k.hi) && finite(k.mc) && finite(k.u));
+        ok.then_some(Sun {
+            l,
+            eu,
+            ev,
+            e,
+            delta,
+            s,
+        })
+    }
+
+    /// The light's direction.
+    pub fn dir(&self) -> Vec3 {
+        self.l
+    }
+
+    /// A shadow ray's origin `anchor + rel`, projected: once per ray.
+    #[inline(always)]
+    pub fn project(&self, anchor: Vec3, rel: Vec3) -> (f32, f32, f32) {
+        let p = (anchor - self.e) + rel;
+        (p.dot(self.eu), p.dot(self.ev), p.dot(self.l))
+    }
+
+    /// Whether sphere `j` blocks the ray from the projected origin `o`: `Some` where that is
+    /// certain from the projections, `None` where the full test must decide.
+    #[inline(always)]
+    pub fn decide(&self, (u, v, w): (f32, f32, f32), j: usize) -> Option<bool> {
+        let k = self.s.get(j)?;
+        let (du, dv) = (u - k.u, v - k.v);
+        let h2 = du * du + dv * dv;
+        // The line passes outside the sphere: no hit, from outside or in.
+        if h2 > k.hi {
+            return Some(false);
+        }
+        if !(h2 < k.lo) {
+            return None; // a graze, or NaN
+        }
+        // The line crosses the sphere, at t_m ± Δt with t_m = w_m − w_o and 0 < Δt ≤ r.
+        let tm = k.w - w;
+        if tm > self.delta {
+            return Some(true); // the far root is ahead
+        }
+        if tm < -self.delta {
+            // The centre is behind: blocked only from inside, |f|² = h² + t_m² below r².
+            let c = (h2 + tm * tm) - k.rr;
+            if c > k.mc {
+                return Some(false);
+            }
+            if c < -k.mc {
+                return Some(true);
+            }
+        }
+        None
+    }
+}
+
+/// [`shadow_loop`] for [`Sun`]: each ray projected once, then every sphere but the one it
+/// leaves decided by [`Sun::decide`] or, where that cannot, by `fallback`.
+#[inline(never)]
+pub fn sun_loop(
+    rays: &[(Vec3, Vec3, usize)],
+    spheres: &[Sphere],
+    sun: &Sun,
+    fallback: impl Fn(Vec3, Vec3, &Sphere, Vec3) -> bool,
+) -> f32 {
+    let mut acc = 0.0;
+    for &(o, _, from) in rays {
+        let anchor = spheres[from].center;
+        let rel = o - anchor;
+        let p = sun.project(anchor, rel);
+        for (j, s) in spheres.iter().enumerate() {
+            if j != from {
+                let blocked = match sun.decide(p, j) {
+                    Some(b) => b,
+                    None => fallback(anchor, rel, s, sun.dir()),
+                };
+                if blocked {
+                    acc += 1.0;
+                }
+            }
+        }
+    }
+    acc
 }

@@ -331,9 +331,22 @@ fn main() -> ! {
         r!("default_per_ray", |o, _, _, s, d| default_per_ray(o, d, s));
         // As shading tests them: any hit for the sun's shadow rays, the closest for mirror rays.
         match kind {
-            Secondary::Sun => r!("shading", |_, anchor, rel, s, d| {
-                Prepared::leaving_blocks(anchor, rel, s, d, hi).then_some(1.0)
-            }),
+            Secondary::Sun => {
+                r!("shading", |_, anchor, rel, s, d| {
+                    Prepared::leaving_blocks(anchor, rel, s, d, hi).then_some(1.0)
+                });
+                // The prototype of per-frame constants for the light's direction.
+                let Some(sun) = Sun::new(lit, lit_sun()) else {
+                    exit(false)
+                };
+                let sun = black_box(&sun);
+                let k = c.per_test(n, empty, || {
+                    sun_loop(rays, lit, sun, |anchor, rel, s, d| {
+                        Prepared::leaving_blocks(anchor, rel, s, d, hi)
+                    })
+                });
+                hprintln!("{}_frame={}", key, k)
+            }
             Secondary::Mirror => r!("shading", |_, anchor, rel, s, d| {
                 Prepared::leaving_hit(anchor, rel, s, d, lo, hi).map(|(t, _)| t)
             }),
