@@ -279,12 +279,12 @@ pub fn shadow_ray(spheres: &[Sphere], k: usize, n: [f64; 3], d: [f64; 3]) -> (Ve
 
 // ---- secondary rays that a render casts --------------------------------------------------------
 // The shadow-like set above draws its directions over the whole hemisphere of each surface
-// point, so a quarter of its rays leave the underside of the balls straight into the ground,
-// which a light above the scene never asks for. These sets are the rays that rendering
+// point, so many of its rays leave the balls' undersides towards the ground, which a light
+// above the scene never asks for. These sets are the rays that rendering
 // tests/data/lit.toml and mirror.toml actually casts, from the same pixels on both sides.
 
-/// The spheres of tests/data/lit.toml and mirror.toml, in file order (the two files differ only
-/// in materials, lights' settings aside).
+/// The spheres of tests/data/lit.toml and mirror.toml, in file order (mirror.toml differs in
+/// materials and depth; the report checks both files against these).
 pub const LIT_SPHERES: [Sphere; 4] = [
     Sphere::new(Vec3::new(0.0, -1000.0, 0.0), 1000.0),
     Sphere::new(Vec3::new(-1.2, 0.8, 0.0), 0.8),
@@ -424,7 +424,8 @@ impl Sun {
         }
         // Each projected coordinate is off by a few ε S (the sums that make the point, the
         // dot product, the basis's own ε): 32 ε S bounds that with room to spare, for the
-        // coordinates and for their difference.
+        // coordinates and for their difference. An argued bound, not a proof: the report
+        // checks the decisions against the full test, grazing rays included.
         let delta = 32.0 * f32::EPSILON * extent;
         let mut s = [SunSphere {
             u: 0.0,
@@ -438,7 +439,9 @@ impl Sun {
         for (k, sphere) in spheres.iter().enumerate() {
             let (d, r) = (sphere.center - e, sphere.radius);
             let rr = r * r;
-            // |h2 − h²| ≤ 2√2 h δ + 2δ² + 3ε h² near h ≈ r (see `blocks`); rounded up.
+            // |h2 − h²| ≤ 2√2 h δ + 2δ² + 3ε h² near h ≈ r (see `decide`); rounded up. For
+            // |f|² − r² from the projections, t_m² adds 2 |t_m| δ + δ² with |t_m| ≲ r where its
+            // sign is in doubt (farther, |f|² − r² is far from 0): twice the margin.
             let m = 3.0 * r * delta + 3.0 * delta * delta + 4.0 * f32::EPSILON * rr;
             s[k] = SunSphere {
                 u: d.dot(eu),
