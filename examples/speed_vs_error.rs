@@ -980,35 +980,36 @@ fn main() {
                 "mirror rays: Prepared::leaving_hit",
             ),
         };
-        let ns3 = time_all(
-            tests,
-            runs,
-            &mut [
-                &mut || shadow_loop(&rays, &LIT_SPHERES, |o, _, _, s, d| lecture(o, d, s)),
-                &mut || {
-                    shadow_loop(&rays, &LIT_SPHERES, |o, _, _, s, d| {
-                        default_per_ray(o, d, s)
-                    })
-                },
-                &mut || {
-                    shadow_loop(&rays, &LIT_SPHERES, |_, anchor, rel, s, d| {
-                        Prepared::leaving_blocks(anchor, rel, s, d, hi).then_some(1.0)
-                    })
-                },
-                &mut || {
-                    shadow_loop(&rays, &LIT_SPHERES, |_, anchor, rel, s, d| {
-                        Prepared::leaving_hit(anchor, rel, s, d, lo, hi).map(|(t, _)| t)
-                    })
-                },
-                &mut || {
-                    sun_loop(&rays, &LIT_SPHERES, &sun, |anchor, rel, s, d| {
-                        Prepared::leaving_blocks(anchor, rel, s, d, hi)
-                    })
-                },
-            ],
-        );
-        // Each set's own: the sun's shadow rays' blocks, the bounces' hits.
-        let shading = ns3[if kind == Secondary::Sun { 2 } else { 3 }];
+        // The set's own loops: the lecture, ray_intersect, what shading calls (the sun's shadow
+        // rays' blocks, the bounces' hits) and, for the sun, the prototype.
+        let mut f_lecture = || shadow_loop(&rays, &LIT_SPHERES, |o, _, _, s, d| lecture(o, d, s));
+        let mut f_default = || {
+            shadow_loop(&rays, &LIT_SPHERES, |o, _, _, s, d| {
+                default_per_ray(o, d, s)
+            })
+        };
+        let mut f_blocks = || {
+            shadow_loop(&rays, &LIT_SPHERES, |_, anchor, rel, s, d| {
+                Prepared::leaving_blocks(anchor, rel, s, d, hi).then_some(1.0)
+            })
+        };
+        let mut f_hit = || {
+            shadow_loop(&rays, &LIT_SPHERES, |_, anchor, rel, s, d| {
+                Prepared::leaving_hit(anchor, rel, s, d, lo, hi).map(|(t, _)| t)
+            })
+        };
+        let mut f_sun = || {
+            sun_loop(&rays, &LIT_SPHERES, &sun, |anchor, rel, s, d| {
+                Prepared::leaving_blocks(anchor, rel, s, d, hi)
+            })
+        };
+        let mut fs: Vec<&mut dyn FnMut() -> f32> = vec![&mut f_lecture, &mut f_default];
+        match kind {
+            Secondary::Sun => fs.extend([&mut f_blocks as &mut dyn FnMut() -> f32, &mut f_sun]),
+            Secondary::Mirror => fs.push(&mut f_hit),
+        }
+        let ns3 = time_all(tests, runs, &mut fs);
+        let (shading, prototype) = (ns3[2], ns3.get(3).copied().unwrap_or(f64::NAN));
         let call = format!("default as shading calls it ({call})");
         for (name, variant, ns) in [
             ("lecture quadratic", "lecture", ns3[0]),
@@ -1021,7 +1022,7 @@ fn main() {
             (
                 "prototype: per-frame constants of the light's direction (Sun), the rest by leaving_blocks",
                 "frame",
-                if kind == Secondary::Sun { ns3[4] } else { f64::NAN },
+                prototype,
             ),
         ] {
             if ns.is_nan() {
