@@ -53,6 +53,7 @@ pub mod scene;
 #[cfg(feature = "scene-file")]
 pub mod scene_file;
 pub mod shading;
+pub(crate) mod simd;
 
 pub use camera::Camera;
 pub use error::Error;

@@ -1,332 +1,33 @@
-//! The TOML scene format (feature `scene-file`, needs std): all of it is in this file.
-//!
-//! ```toml
-//! [camera]            # eye, look_at required; up = [0,1,0]; vfov = 60 (0 < vfov < 180)
-//! eye = [0, 1, 6]
-//! look_at = [0, 0.5, 0]
-//! [render]            # all optional: width = 640, height = 480 (1..=16384), background = 0,
-//! width = 320         # ambient = 0, shadows = true, max_depth = 3 (0..=16),
-//! height = 240        # samples = 1 (1..=16, per axis), encoding = "linear" | "srgb"
-//! [[sphere]]          # center, radius (> 0) required; diffuse = 1, specular = 0,
-//! center = [0, 0, 0]  # shininess = 32 (> 0), mirror = 0
-//! radius = 1.0
-//! diffuse = [0.8, 0.2, 0.2]
-//! [[light]]           # kind = "point" + position, or kind = "directional" + direction (≠ 0);
-//! kind = "point"      # intensity = 1
-//! position = [3, 5, 4]
-//! ```
-//!
-//! Colours take `[r, g, b]` or one number for all three; integers and floats both work. Every
-//! error names the field, and the line where the parser knows it.
-//!
-//! ```
-//! use microray::scene_file::{parse, Desktop};
-//! let file = parse::<1024, 32>("[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n")?;
-//! assert_eq!((file.width, file.height), (640, 480));
-//! let err = parse::<1024, 32>("[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 5]\n").unwrap_err();
-//! assert_eq!(err.to_string(), "line 3: camera.look_at: eye and look_at must differ");
-//! # let _: Option<Desktop> = None;
-//! # Ok::<(), microray::scene_file::SceneError>(())
-//! ```
+//! From the raw tables to a [`Scene`] and a [`View`]: every value validated through the library's
+//! own checks, each error located at its file, line and field.
 
-use std::fmt;
-use std::ops::Range;
-use std::path::Path;
-use std::string::{String, ToString};
-use std::vec::Vec;
-use std::{format, vec};
-
-use serde::de::{self, Deserializer, SeqAccess, Visitor};
-use serde::Deserialize;
-use toml::Spanned;
-
-use crate::camera::{Camera, MAX_SIZE};
-use crate::error::Error;
-use crate::geometry::Sphere;
-use crate::math::{Color, Vec3};
-use crate::render::{Encoding, RenderOptions};
-use crate::scene::{Light, Material, Scene};
-
-/// The desktop renderer's scene: 1024 spheres and 32 lights.
-pub type Desktop = SceneFile<1024, 32>;
-
-/// A scene file, read and checked: the scene, its camera and how to render it.
-#[derive(Debug, Clone)]
-pub struct SceneFile<const S: usize, const L: usize> {
-    /// Spheres, lights and global shading settings.
-    pub scene: Scene<S, L>,
-    /// The camera for the file's `width` × `height`.
-    pub camera: Camera,
-    /// Eye, look-at, up and vertical field of view, to rebuild the camera at another size.
-    pub view: View,
-    /// Image width from the file (or 640).
-    pub width: u32,
-    /// Image height from the file (or 480).
-    pub height: u32,
-    /// Samples and encoding.
-    pub options: RenderOptions,
-}
-
-/// The camera's placement, independent of the image size.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct View {
-    /// The eye point.
-    pub eye: Vec3,
-    /// The point looked at.
-    pub look_at: Vec3,
-    /// The up direction.
-    pub up: Vec3,
-    /// Full vertical field of view in degrees.
-    pub vfov: f32,
-}
-
-impl View {
-    /// The camera for a `width` × `height` image.
-    ///
-    /// ```
-    /// # use microray::scene_file::parse;
-    /// let file = parse::<4, 1>("[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n")?;
-    /// assert_eq!(file.view.camera(32, 16)?.width(), 32);
-    /// # Ok::<(), Box<dyn std::error::Error>>(())
-    /// ```
-    pub fn camera(&self, width: u32, height: u32) -> Result<Camera, Error> {
-        Camera::new(self.eye, self.look_at, self.up, self.vfov, width, height)
-    }
-}
-
-/// Why a scene file was rejected: where (file, line), which field, and what is wrong.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct SceneError {
-    /// The file, once known (set by [`load`]).
-    pub file: Option<String>,
-    /// 1-based line, where the parser knows it.
-    pub line: Option<usize>,
-    /// The field, such as `sphere[2].radius`, where one is to blame.
-    pub field: Option<String>,
-    /// What is wrong.
-    pub message: String,
-    /// Whether reading the file failed (as opposed to its contents being invalid).
-    pub io: bool,
-}
-
-impl fmt::Display for SceneError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mut sep = "";
-        if let Some(file) = &self.file {
-            write!(f, "{file}")?;
-            sep = ":";
-        }
-        if let Some(line) = self.line {
-            write!(
-                f,
-                "{sep}{}line {line}",
-                if sep.is_empty() { "" } else { " " }
-            )?;
-            sep = ":";
-        }
-        if let Some(field) = &self.field {
-            write!(f, "{sep}{}{field}", if sep.is_empty() { "" } else { " " })?;
-            sep = ":";
-        }
-        write!(
-            f,
-            "{sep}{}{}",
-            if sep.is_empty() { "" } else { " " },
-            self.message
-        )
-    }
-}
-
-impl std::error::Error for SceneError {}
-
-/// Reads and checks a scene file; the error names the file.
-///
-/// ```
-/// let err = microray::scene_file::load::<4, 1>("no/such/scene.toml").unwrap_err();
-/// assert!(err.io && err.to_string().starts_with("no/such/scene.toml: "));
-/// ```
-pub fn load<const S: usize, const L: usize>(
-    path: impl AsRef<Path>,
-) -> Result<SceneFile<S, L>, SceneError> {
-    let path = path.as_ref();
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-        file: Some(name.clone()),
-        line: None,
-        field: None,
-        message: e.to_string(),
-        io: true,
-    })?;
-    parse(&text).map_err(|mut e| {
-        e.file = Some(name);
-        e
-    })
-}
-
-/// Parses and checks scene text.
-///
-/// ```
-/// use microray::scene_file::parse;
-/// let text = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[sphere]]\ncenter = [0, 0, 0]\nradius = -1\n";
-/// assert_eq!(parse::<4, 1>(text).unwrap_err().to_string(),
-///            "line 6: sphere[0].radius: radius must be finite and > 0");
-/// ```
-pub fn parse<const S: usize, const L: usize>(text: &str) -> Result<SceneFile<S, L>, SceneError> {
-    let lines = LineIndex::new(text);
-    let raw: RawFile = toml::from_str(text).map_err(|e| {
-        let line = e.span().map(|s| lines.line(s.start));
-        SceneError {
-            file: None,
-            line,
-            field: line.and_then(|l| lines.key_on(l)),
-            message: e.message().trim().replace('\n', "; "),
-            io: false,
-        }
-    })?;
-    Builder { lines: &lines }.build(raw)
-}
-
-// ---- raw TOML shapes -------------------------------------------------------------------------
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawFile {
-    camera: Spanned<RawCamera>,
-    render: Option<Spanned<RawRender>>,
-    #[serde(default)]
-    sphere: Vec<Spanned<RawSphere>>,
-    #[serde(default)]
-    light: Vec<Spanned<RawLight>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawCamera {
-    eye: Spanned<Vector>,
-    look_at: Spanned<Vector>,
-    up: Option<Spanned<Vector>>,
-    vfov: Option<Spanned<f64>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawRender {
-    width: Option<Spanned<i64>>,
-    height: Option<Spanned<i64>>,
-    background: Option<Spanned<Rgb>>,
-    ambient: Option<Spanned<Rgb>>,
-    shadows: Option<bool>,
-    max_depth: Option<Spanned<i64>>,
-    samples: Option<Spanned<i64>>,
-    encoding: Option<Spanned<String>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawSphere {
-    center: Spanned<Vector>,
-    radius: Spanned<f64>,
-    diffuse: Option<Spanned<Rgb>>,
-    specular: Option<Spanned<Rgb>>,
-    shininess: Option<Spanned<f64>>,
-    mirror: Option<Spanned<Rgb>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawLight {
-    kind: Spanned<String>,
-    position: Option<Spanned<Vector>>,
-    direction: Option<Spanned<Vector>>,
-    intensity: Option<Spanned<Rgb>>,
-}
-
-/// Three numbers, integers or floats.
-struct Vector([f64; 3]);
-/// A colour: three numbers, or one for all channels.
-struct Rgb([f64; 3]);
-
-fn three<'de, A: SeqAccess<'de>>(mut seq: A, what: &str) -> Result<[f64; 3], A::Error> {
-    let mut out = [0.0; 3];
-    for (i, slot) in out.iter_mut().enumerate() {
-        *slot = seq
-            .next_element::<f64>()?
-            .ok_or_else(|| de::Error::invalid_length(i, &what))?;
-    }
-    if seq.next_element::<f64>()?.is_some() {
-        return Err(de::Error::invalid_length(4, &what));
-    }
-    Ok(out)
-}
-
-impl<'de> Deserialize<'de> for Vector {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl<'de> Visitor<'de> for V {
-            type Value = Vector;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("an array of 3 numbers")
-            }
-            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Vector, A::Error> {
-                three(seq, "an array of 3 numbers").map(Vector)
-            }
-        }
-        d.deserialize_seq(V)
-    }
-}
-
-impl<'de> Deserialize<'de> for Rgb {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl<'de> Visitor<'de> for V {
-            type Value = Rgb;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number or an array of 3 numbers [r, g, b]")
-            }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Rgb, E> {
-                Ok(Rgb([v; 3]))
-            }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Rgb, E> {
-                Ok(Rgb([v as f64; 3]))
-            }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Rgb, E> {
-                Ok(Rgb([v as f64; 3]))
-            }
-            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Rgb, A::Error> {
-                three(seq, "an array of 3 numbers [r, g, b]").map(Rgb)
-            }
-        }
-        d.deserialize_any(V)
-    }
-}
-
-// ---- checking and building -------------------------------------------------------------------
+use super::*;
 
 /// Byte offsets to lines, and the key written on a line.
-struct LineIndex<'a> {
-    text: &'a str,
-    starts: Vec<usize>,
+pub(super) struct LineIndex<'a> {
+    pub(super) text: &'a str,
+    pub(super) starts: Vec<usize>,
 }
 
 impl<'a> LineIndex<'a> {
-    fn new(text: &'a str) -> Self {
+    pub(super) fn new(text: &'a str) -> Self {
         let mut starts = vec![0];
         starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
         LineIndex { text, starts }
     }
 
-    fn line(&self, offset: usize) -> usize {
+    pub(super) fn line(&self, offset: usize) -> usize {
         self.starts.partition_point(|&s| s <= offset)
     }
 
-    fn text_of(&self, line: usize) -> Option<&'a str> {
+    pub(super) fn text_of(&self, line: usize) -> Option<&'a str> {
         let start = *self.starts.get(line.checked_sub(1)?)?;
         let end = self.starts.get(line).copied().unwrap_or(self.text.len());
         Some(self.text[start..end].trim())
     }
 
     /// The table a line belongs to, as `camera` or `sphere[2]`, and the header's own key.
-    fn table_of(&self, line: usize) -> Option<String> {
+    pub(super) fn table_of(&self, line: usize) -> Option<String> {
         let header = (1..=line)
             .rev()
             .find(|&l| self.text_of(l).is_some_and(|t| t.starts_with('[')))?;
@@ -353,7 +54,7 @@ impl<'a> LineIndex<'a> {
 
     /// The field written on a line: `sphere[1].radius` for `radius = …` in the second
     /// `[[sphere]]`, or the table itself for a header line.
-    fn key_on(&self, line: usize) -> Option<String> {
+    pub(super) fn key_on(&self, line: usize) -> Option<String> {
         let l = self.text_of(line)?;
         let table = self.table_of(line);
         match (l.split_once('='), table) {
@@ -364,12 +65,17 @@ impl<'a> LineIndex<'a> {
     }
 }
 
-struct Builder<'a> {
-    lines: &'a LineIndex<'a>,
+pub(super) struct Builder<'a> {
+    pub(super) lines: &'a LineIndex<'a>,
 }
 
 impl Builder<'_> {
-    fn err(&self, span: Range<usize>, field: &str, message: impl ToString) -> SceneError {
+    pub(super) fn err(
+        &self,
+        span: Range<usize>,
+        field: &str,
+        message: impl ToString,
+    ) -> SceneError {
         SceneError {
             file: None,
             line: Some(self.lines.line(span.start)),
@@ -379,7 +85,7 @@ impl Builder<'_> {
         }
     }
 
-    fn num(&self, v: &Spanned<f64>, field: &str) -> Result<f32, SceneError> {
+    pub(super) fn num(&self, v: &Spanned<f64>, field: &str) -> Result<f32, SceneError> {
         let x = *v.get_ref() as f32;
         if x.is_finite() {
             Ok(x)
@@ -388,7 +94,7 @@ impl Builder<'_> {
         }
     }
 
-    fn vector(&self, v: &Spanned<Vector>, field: &str) -> Result<Vec3, SceneError> {
+    pub(super) fn vector(&self, v: &Spanned<Vector>, field: &str) -> Result<Vec3, SceneError> {
         let [x, y, z] = v.get_ref().0.map(|c| c as f32);
         let out = Vec3::new(x, y, z);
         if out.is_finite() {
@@ -398,7 +104,7 @@ impl Builder<'_> {
         }
     }
 
-    fn color(
+    pub(super) fn color(
         &self,
         v: Option<&Spanned<Rgb>>,
         default: f32,
@@ -416,7 +122,7 @@ impl Builder<'_> {
         }
     }
 
-    fn int(
+    pub(super) fn int(
         &self,
         v: Option<&Spanned<i64>>,
         default: i64,
@@ -434,7 +140,7 @@ impl Builder<'_> {
         }
     }
 
-    fn build<const S: usize, const L: usize>(
+    pub(super) fn build<const S: usize, const L: usize>(
         &self,
         raw: RawFile,
     ) -> Result<SceneFile<S, L>, SceneError> {

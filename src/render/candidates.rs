@@ -1,0 +1,406 @@
+//! The span culling: the span's primary hits grouped by sphere and bounded, and for each group
+//! and light the spheres that can block a shadow ray from it.
+
+use super::*;
+
+impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
+    /// Joins the span's hits in `slots` (column `i0` first, sample offset `ox`, all along
+    /// `row`) to their groups' bounds run by run, where the span keeps no hit points
+    /// (Cortex-M): a run of hits on one sphere as the box of the row's ray fan over the run's
+    /// columns and range of `t` (`RowRays::fan_box`, the range found in one tight loop), or for
+    /// a sphere beyond near2 as the sphere's box (`hit_point_far` puts those points on the
+    /// sphere, not at `eye + t·d`, which is off where a grazing ray's `t` is ill-conditioned).
+    /// No point and box a pixel: on the M4F they had cost ~60 instructions a hit (the frame
+    /// went from 516.2 to 490.0), on the M0 ~540 (15 005 to 14 659).
+    #[inline(always)]
+    pub(super) fn bound_runs(
+        &self,
+        row: &crate::camera::RowRays,
+        (i0, ox): (u32, f32),
+        slots: core::ops::Range<usize>,
+        cull: &mut Cull<S, L>,
+        bounds: &mut Bounds,
+    ) {
+        let mut slot = slots.start;
+        while slot < slots.end {
+            let Some((t, s)) = cull.hit(slot) else {
+                slot += 1;
+                continue;
+            };
+            // The run's least and greatest `t` by their bits: a hit's `t` is positive (at least
+            // `T_EPS`), where the bits order as the values do (M4F: integer compares, no
+            // moves to and from the FPU's flags).
+            let (mut t0, mut t1, mut next) = (t.to_bits(), t.to_bits(), slot + 1);
+            if let (Some(ss), Some(ts)) = (cull.hit_s.get(..slots.end), cull.hit_t.get(..slots.end))
+            {
+                while let (Some(&s2), Some(&t)) = (ss.get(next), ts.get(next)) {
+                    if s2 != s {
+                        break;
+                    }
+                    let t = t.to_bits();
+                    if t < t0 {
+                        t0 = t;
+                    }
+                    if t > t1 {
+                        t1 = t;
+                    }
+                    next += 1;
+                }
+            }
+            let (t0, t1) = (f32::from_bits(t0), f32::from_bits(t1));
+            let s = s as usize;
+            let join = if self.offset_near(s) {
+                // `column` is monotonic: the run's ends have its least and greatest.
+                let x = |k: usize| (i0 + (k - slots.start) as u32) as f32 + ox;
+                let columns = (row.column(x(slot)), row.column(x(next - 1)));
+                Some(row.fan_box((t0, t1), columns))
+            } else {
+                self.scene.spheres().get(s).map(|sp| {
+                    let r = Vec3::splat(sp.radius);
+                    (sp.center - r, sp.center + r)
+                })
+            };
+            if let Some(join) = join {
+                let g = bounds.join::<false>(s, join);
+                cull.set_group(slot..next, g);
+            }
+            slot = next;
+        }
+    }
+
+    /// Gathers the span `[span_start, span_end)` of row `j`: its spheres from the row's, then
+    /// (with shadow rays, or one sample a pixel) its primary hits, and with shadow rays the
+    /// ball bounding their points and each light's possible blockers.
+    #[inline(never)]
+    pub(super) fn gather(&self, j: u32, cull: &mut Cull<S, L>) {
+        let (i0, i1) = (cull.span_start, cull.span_end);
+        cull.span.clear();
+        for &s in &cull.row {
+            if let Some(b) = self.boxes.get(s as usize) {
+                if (b.i0 as u32) < i1 && b.i1 as u32 >= i0 {
+                    let _ = cull.span.push(s);
+                }
+            }
+        }
+        cull.culled = false;
+        cull.stored = false;
+        cull.kept = false;
+        // No group until this span's: `lists` finds none where the span builds no lists.
+        cull.groups = [NONE; GROUPS];
+        // Without shadow rays the span needs no bounds, but with one sample a pixel its hits
+        // are still traced here, in one tight loop over the span, and kept for shading.
+        let kept = (self.samples * self.samples) as usize <= KEPT;
+        if !self.shadow_rays && !kept {
+            return;
+        }
+        // The span's primary hits (kept for shading when one sample per pixel), grouped by
+        // the sphere hit (a sphere and the wall behind it make poor company in one bound),
+        // and the box of each group's points.
+        let mut bounds = Bounds::new();
+        // Slots whose hit joins no group (a miss, or no point) get no lists: every sphere.
+        cull.hit_g.fill(NO_GROUP);
+        if self.samples == 1 && cull.span.is_empty() {
+            // No sphere's box meets the span (the sky above the scene): every ray misses, and
+            // none needs building.
+            cull.hit_s.fill(NONE);
+            cull.stored = true;
+        } else {
+            // Every sample's hit joins the bounds; the hits are also kept for shading where
+            // there is room (`KEPT`), the samples outermost so that their offsets (the divides
+            // of `Camera::primary_ray`) are hoisted.
+            let n = self.samples;
+            // Rows of a tile (hosts, one sample a pixel), or the samples of one row.
+            for rs in 0..cull.rows() * n {
+                // (Several rows come with one sample a pixel only; Cortex-M has one row.)
+                let (r, sy) = if cull.rows() == 1 { (0, rs) } else { (rs, 0) };
+                let y = (j + r) as f32 + sample_offset(sy, n);
+                for sx in 0..n {
+                    let ox = sample_offset(sx, n);
+                    // The sample's slots (see `KEPT`), or the row's.
+                    let base = if KEPT > 1 {
+                        (r * n * n + sy * n + sx) as usize * SPAN
+                    } else {
+                        0
+                    };
+                    if SPHERE_MAJOR {
+                        // Scratch slots where this sample's hits are not kept.
+                        let base = if kept { base } else { 0 };
+                        self.trace_span(i0, i1, ox, (j + r, y), base, cull);
+                        if self.shadow_rays && KEEPS_OFFSETS {
+                            // The points `trace_span` computed with its hits (`cfg(lanes)`), four
+                            // at a time where four neighbours hit one sphere: their box, in
+                            // registers, joins the group once.
+                            let end = base + (i1 - i0) as usize;
+                            let mut slot = base;
+                            while slot < end {
+                                let four = (slot + 4 <= end)
+                                    .then(|| {
+                                        let s = cull.hit_s.get(slot..slot + 4)?;
+                                        let p = cull.hit_p.get(slot..slot + 4)?;
+                                        let same = s[0] != NONE && s.iter().all(|&x| x == s[0]);
+                                        same.then(|| (s[0], box4(p)))
+                                    })
+                                    .flatten();
+                                if let Some((s, b)) = four {
+                                    cull.set_group(
+                                        slot..slot + 4,
+                                        bounds.join::<true>(s as usize, b),
+                                    );
+                                    slot += 4;
+                                    continue;
+                                }
+                                if let (Some((_, s)), Some(&p)) =
+                                    (cull.hit(slot), cull.hit_p.get(slot))
+                                {
+                                    cull.set_group(
+                                        slot..slot + 1,
+                                        bounds.join::<true>(s as usize, (p, p)),
+                                    );
+                                }
+                                slot += 1;
+                            }
+                        } else if self.shadow_rays {
+                            let row = self.camera.row(y);
+                            let slots = base..base + (i1 - i0) as usize;
+                            self.bound_runs(&row, (i0, ox), slots, cull, &mut bounds);
+                        }
+                        continue;
+                    }
+                    // Pixel by pixel (soft-float Arm, see `SPHERE_MAJOR`).
+                    let row = self.camera.row(y);
+                    for (k, i) in (i0..i1).enumerate() {
+                        let slot = base + k;
+                        // `primary_ray(i, j, sx, sy, n)`, the same bits.
+                        let ray = row.ray(i as f32 + ox);
+                        let h = self.primary_among(&ray, i, &cull.span);
+                        if h.is_some() {
+                            // Only a hit is shaded with its ray.
+                            cull.set_dir(slot, ray.dir);
+                        }
+                        let (t, s) = (cull.hit_t.get_mut(slot), cull.hit_s.get_mut(slot));
+                        if let (Some(t), Some(s)) = (t, s) {
+                            (*t, *s) = h.map_or((0.0, NONE), |(t, s)| (t, s as u16));
+                        }
+                    }
+                    if self.shadow_rays {
+                        let slots = base..base + (i1 - i0) as usize;
+                        self.bound_runs(&row, (i0, ox), slots, cull, &mut bounds);
+                    }
+                }
+            }
+            cull.stored = n == 1;
+            cull.kept = kept && n > 1;
+        }
+        if !self.shadow_rays {
+            return;
+        }
+        cull.culled = true;
+        cull.pool.clear();
+        for g in 0..GROUPS {
+            let (Some(slot), Some(ranges)) = (cull.groups.get_mut(g), cull.ranges.get_mut(g))
+            else {
+                continue;
+            };
+            let Some(group) = bounds.groups.get(g) else {
+                *slot = NONE;
+                continue;
+            };
+            *slot = group.sphere;
+            let (lo, hi) = (group.lo, group.hi);
+            let q = (lo + hi) * 0.5;
+            let half = (hi - lo) * 0.5;
+            // Rounding of q and of the length: a relative pad far above it. Shadow rays leave
+            // from the hit's `anchor + rel`, not from these points: the two differ by the f32
+            // error of the hit offset, ~4ε of the distance from the eye (f32 offsets are kept
+            // out to 2048 radii, `scene::near2`), which 2⁻²⁰ of that distance covers. It covers
+            // as well the few ε by which a ray fan's box (`bound_runs`) and the rounded points
+            // `eye + t·d` it stands for may differ (`camera::fan_tests` checks 2⁻²²).
+            let reach = (q - self.camera.eye()).length() + half.length();
+            let rho = half.length() * (1.0 + 1e-5)
+                + 1e-5 * q.max_abs()
+                + reach * (1.0 / 1_048_576.0)
+                + f32::MIN_POSITIVE;
+            let bounded = rho.is_finite() && q.is_finite();
+            // The scene's lights only: the ranges of light slots past them are never asked.
+            for (li, (range, light)) in ranges.iter_mut().zip(self.scene.lights()).enumerate() {
+                *range = ALL;
+                if !bounded {
+                    continue;
+                }
+                let start = cull.pool.len() as u16;
+                let spheres = self.scene.spheres();
+                let mut full = false;
+                // Hosts collect the candidates first and weigh them four at a time.
+                #[cfg(lanes)]
+                let mut found: List<S> = heapless::Vec::new();
+                let mut consider = |s: u16| {
+                    // Not a group's own sphere: the shadow test skips the hit's sphere among
+                    // its candidates (it finds the ray's exit from it analytically), so listing
+                    // it would only cost a skip per pixel. `REST` is no sphere index (`FITS`).
+                    if s == group.sphere {
+                        return;
+                    }
+                    #[cfg(lanes)]
+                    if found.push(s).is_err() {
+                        full = true;
+                    }
+                    #[cfg(not(lanes))]
+                    if let Some(sphere) = spheres.get(s as usize) {
+                        if may_block(light, sphere.center, sphere.radius, q, rho)
+                            && cull.pool.push(s).is_err()
+                        {
+                            full = true;
+                        }
+                    }
+                };
+                let band = match self.sweeps.get(li) {
+                    Some(w) if Self::SWEEPS => w.band(light, q, rho),
+                    _ => None,
+                };
+                match band {
+                    // Only the spheres whose key is near the span's, and the wide ones.
+                    Some((sweep, key, band, slack, key2)) => {
+                        for &s in &sweep.wide {
+                            consider(s);
+                        }
+                        sweep.scan(key, band, slack, key2, &mut consider);
+                    }
+                    None => {
+                        for s in 0..spheres.len() {
+                            consider(s as u16);
+                        }
+                    }
+                }
+                #[cfg(lanes)]
+                for c in found.chunks(4) {
+                    let ids: [u16; 4] = core::array::from_fn(|l| c.get(l).copied().unwrap_or(NONE));
+                    let sph = ids.map(|i| spheres.get(i as usize).copied());
+                    let m = sph.map(|s| s.map_or(Vec3::ZERO, |s| s.center));
+                    let r = sph.map(|s| s.map_or(0.0, |s| s.radius));
+                    let pass = may_block4(light, m, r, q, rho);
+                    for (l, &i) in ids.iter().enumerate() {
+                        if pass & (1 << l) != 0 && sph[l].is_some() && cull.pool.push(i).is_err() {
+                            full = true;
+                        }
+                    }
+                }
+                if full {
+                    // Out of room: this light tests every sphere for this group.
+                    cull.pool.truncate(start as usize);
+                } else {
+                    *range = (start, cull.pool.len() as u16);
+                }
+            }
+        }
+    }
+}
+
+/// The box of four points (a coordinate that is NaN skipped, as `Frame::gather`'s bounds skip
+/// it): selections in registers, one group update for four neighbouring hits instead of four.
+#[inline(always)]
+pub(super) fn box4(p: &[Vec3]) -> (Vec3, Vec3) {
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for q in p {
+        for (k, v) in [q.x, q.y, q.z].into_iter().enumerate() {
+            if let (Some(l), Some(h)) = (lo.get_mut(k), hi.get_mut(k)) {
+                *l = if v < *l { v } else { *l };
+                *h = if v > *h { v } else { *h };
+            }
+        }
+    }
+    (Vec3::from(lo), Vec3::from(hi))
+}
+
+/// Hit groups per span: hits on up to `GROUPS − 1` spheres get their own bound, the rest share
+/// the last.
+pub(super) const GROUPS: usize = 4;
+/// An unused group.
+pub(super) const NONE: u16 = u16::MAX;
+/// A slot's hit in no group (`Cull::hit_g`).
+pub(super) const NO_GROUP: u8 = u8::MAX;
+
+/// The bound of one group's hit points.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Group {
+    pub(super) sphere: u16,
+    pub(super) lo: Vec3,
+    pub(super) hi: Vec3,
+}
+
+impl Group {
+    /// Grows the box to hold `[lo, hi]`. Comparisons, not `f32::min`/`max` (calls to
+    /// `fminf`/`fmaxf` without an FPU instruction for them); a NaN coordinate is skipped as
+    /// `min`/`max` skip it.
+    #[inline(always)]
+    pub(super) fn add_box(&mut self, p_lo: Vec3, p_hi: Vec3) {
+        let widen = |l: &mut f32, h: &mut f32, a: f32, b: f32| {
+            if a < *l {
+                *l = a;
+            }
+            if b > *h {
+                *h = b;
+            }
+        };
+        let (lo, hi) = (&mut self.lo, &mut self.hi);
+        widen(&mut lo.x, &mut hi.x, p_lo.x, p_hi.x);
+        widen(&mut lo.y, &mut hi.y, p_lo.y, p_hi.y);
+        widen(&mut lo.z, &mut hi.z, p_lo.z, p_hi.z);
+    }
+}
+
+/// A span's hit groups while [`Frame::gather`] collects their bounds.
+#[derive(Debug, Clone)]
+pub(super) struct Bounds {
+    /// The groups in the order they were made, each with its sphere's hits; the last of
+    /// `GROUPS` takes every other sphere (`REST`). A list, not an array of empty groups:
+    /// each span starts with none, and an array's boxes were copied in for every span
+    /// (M4F: ~4 instructions a pixel).
+    pub(super) groups: heapless::Vec<Group, GROUPS>,
+    /// The group of the previous hit's sphere: a sphere keeps its group once it has one, and
+    /// neighbouring pixels mostly hit the same sphere.
+    pub(super) last: (usize, usize),
+}
+
+impl Bounds {
+    #[inline(always)]
+    pub(super) fn new() -> Self {
+        Bounds {
+            groups: heapless::Vec::new(),
+            last: (usize::MAX, 0),
+        }
+    }
+
+    /// The box `(lo, hi)` (a point, or several points' box) joins sphere `sphere`'s group,
+    /// which it returns. `LAST`: look at the previous join's sphere first (for pixels one by
+    /// one; runs of one sphere, `Frame::bound_runs`, follow each other's sphere only after
+    /// another sphere's run).
+    #[inline(always)]
+    pub(super) fn join<const LAST: bool>(&mut self, sphere: usize, (lo, hi): (Vec3, Vec3)) -> u8 {
+        let g = if LAST && sphere == self.last.0 {
+            self.last.1
+        } else {
+            // The sphere's group, or else a new one, or the last, which takes every other
+            // sphere (`REST`).
+            let groups = &self.groups;
+            let open = groups.len().min(GROUPS - 1);
+            let g = (0..open)
+                .find(|&k| groups.get(k).is_some_and(|gr| gr.sphere as usize == sphere))
+                .unwrap_or(open);
+            if LAST {
+                self.last = (sphere, g);
+            }
+            g
+        };
+        match self.groups.get_mut(g) {
+            Some(gr) => gr.add_box(lo, hi),
+            // A new group (`g` is the number of groups, below `GROUPS`), whose box is the
+            // first. A NaN coordinate stays in it, where `add_box` skips one: the group's
+            // lists are then every sphere's (`gather`: not `bounded`), which holds.
+            None => {
+                let sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
+                let _ = self.groups.push(Group { sphere, lo, hi });
+            }
+        }
+        g as u8
+    }
+}

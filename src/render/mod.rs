@@ -1,0 +1,267 @@
+//! Rendering: per-frame constants, the pixel loop, supersampling and pixel encoding.
+//!
+//! # How a frame is traced fast
+//!
+//! [`Frame::new`] computes what all rays of the frame share: for the eye, `o − m` and
+//! `|o − m|² − r²` of every sphere ([`Prepared::exact`]); for every point light (when shadows
+//! are on) the `c = |o − m|² − r²` of those constants (the rest is rebuilt exactly when used);
+//! for every sphere its exact, conservative screen-space box ([`crate::raster`]); and for every
+//! light (with shadows) its spheres sorted by a 1-D key, to find shadow candidates by a binary
+//! search.
+//! [`Frame::render_rows`] then walks each row in spans of [`SPAN`] pixels:
+//!
+//! 1. the row's spheres are those whose box crosses it, the span's those whose box overlaps
+//!    the span, in scene order; a primary ray tests only the span's spheres whose box holds
+//!    its pixel;
+//! 2. with shadows on, the span's primary hits are traced first, grouped by the sphere hit and
+//!    each group bounded by a ball; for each group and light, only the spheres that can meet a
+//!    shadow ray from that ball are kept (for a point light: the cone hull of the light and the
+//!    ball; for a directional light: the ball swept along the light), found in the light's
+//!    sorted band (never a group's own sphere, which shadow rays leave analytically); shadow
+//!    rays stop at the first blocker;
+//! 3. the pixels are shaded with those lists, from the stored hits and ray directions; every
+//!    miss shows the background whatever its ray, so the row shades one miss for all.
+//!
+//! Every list is a superset of the spheres the full test could report, and the tests
+//! themselves are the brute-force ones, in the same order where order matters (the closest
+//! hit keeps the last of equal `t`s): the pixels are the brute-force pixels, bit for bit
+//! ([`Frame::render_rows_brute`] is kept as the reference). Mirror rays, which leave from
+//! anywhere, are traced against every sphere.
+//!
+//! A scene pays only for what it has: without lights or shadows, step 2 is skipped; no
+
+use embedded_graphics::pixelcolor::Rgb888;
+
+use crate::camera::{sample_offset, Camera};
+use crate::error::Error;
+use crate::geometry::{hit_point_near, Prepared, Ray};
+use crate::math::{powf, Color, Vec3};
+use crate::raster::{PixelBox, Screen, ETA};
+use crate::scene::{hit_from_offset, make_hit, Hit, Light, Scene};
+use crate::shading::{follow, in_shadow_among, shade_lit, T_EPS};
+
+mod candidates;
+mod config;
+mod cull;
+mod encode;
+mod primary;
+mod rows;
+mod shade;
+mod sweep;
+#[cfg(test)]
+mod tests;
+
+use candidates::*;
+use config::*;
+use cull::*;
+pub use encode::*;
+pub use rows::*;
+use sweep::*;
+
+/// Per-frame settings that are not part of the scene.
+///
+/// ```
+/// use microray::{Encoding, RenderOptions};
+/// let opts = RenderOptions { samples: 3, encoding: Encoding::Srgb };
+/// assert_eq!(RenderOptions::default().samples, 1);
+/// # let _ = opts;
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RenderOptions {
+    /// Samples per pixel along each axis (1..=16): `samples²` rays per pixel.
+    pub samples: u8,
+    /// How pixels are encoded.
+    pub encoding: Encoding,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            samples: 1,
+            encoding: Encoding::Linear,
+        }
+    }
+}
+
+/// Pixels per span: the unit for which the renderer gathers candidate spheres.
+pub const SPAN: usize = 32;
+
+/// A scene, a camera and options, with everything that all rays of the frame share computed
+/// once: `o − m` and `|o − m|² − r²` of every sphere for the eye and for every point light,
+/// and every sphere's box on the screen.
+///
+/// Build it once, then render the whole image, bands of rows, single pixels, or draw onto an
+/// embedded-graphics display.
+///
+/// ```
+/// use embedded_graphics::pixelcolor::Rgb888;
+/// use microray::{Camera, Color, Frame, Light, Material, RenderOptions, Scene, Sphere, Vec3};
+///
+/// let mut scene: Scene<4, 1> = Scene::new();
+/// scene.set_ambient(Color::splat(0.1))?;
+/// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+/// scene.add_light(Light::Point { position: Vec3::new(3.0, 5.0, 4.0), intensity: Color::ONE })?;
+/// let camera = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 32, 24)?;
+/// let frame = Frame::new(&scene, &camera, RenderOptions::default())?;
+///
+/// let mut image = [Rgb888::new(0, 0, 0); 32 * 24];
+/// frame.render(&mut image)?;
+/// assert_eq!(image[0], Rgb888::new(0, 0, 0)); // the corner sees the black background
+/// assert_ne!(image[12 * 32 + 16], Rgb888::new(0, 0, 0)); // the centre sees the sphere
+/// # Ok::<(), microray::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct Frame<'a, const S: usize, const L: usize> {
+    scene: &'a Scene<S, L>,
+    camera: &'a Camera,
+    samples: u32,
+    encoding: Encoding,
+    eye: heapless::Vec<Prepared, S>,
+    boxes: heapless::Vec<PixelBox, S>,
+    /// Per light, in scene order: for a point light with shadows, `c` of [`Prepared::exact`]
+    /// from the light for every sphere (the rest of those constants is rebuilt exactly when
+    /// needed); empty for the others.
+    lights: [heapless::Vec<f32, S>; L],
+    /// Per light, in scene order, when shadows are on and `SWEEPS`: its spheres sorted for
+    /// the span culling.
+    sweeps: heapless::Vec<Sweep<S>, L>,
+    /// Shadows on and at least one light: the only case that casts shadow rays.
+    shadow_rays: bool,
+    /// Every sphere's index: the candidate list of a shadow ray that must test them all, so
+    /// that every shadow ray walks a plain slice.
+    all: List<S>,
+    /// Per sphere, [`Frame::offset_near`]'s answer, decided once.
+    near: heapless::Vec<bool, S>,
+}
+
+/// Sphere indices: a row's, a span's or a light's candidates.
+type List<const S: usize> = heapless::Vec<u16, S>;
+
+impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
+    /// Sphere indices are stored as `u16`, two values kept as markers.
+    const FITS: () = assert!(S < REST as usize, "sphere capacity above 65533");
+
+    /// Whether shadow rays find their candidates through sorted sweeps, or test every sphere
+    /// against a span's bound: decided by the capacity, at compile time, so that a scene of a
+    /// few spheres (a microcontroller's) links none of the sweep code (sorting, `atan2f`),
+    /// where a scan of all its spheres per span costs about as much.
+    const SWEEPS: bool = S > 8;
+
+    /// Prepares a frame; fails only for invalid options (`samples` outside 1..=16).
+    ///
+    /// ```
+    /// # use microray::{Camera, Error, Frame, RenderOptions, Scene, Vec3};
+    /// let scene: Scene<1, 0> = Scene::new();
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
+    /// let bad = RenderOptions { samples: 0, ..RenderOptions::default() };
+    /// assert_eq!(Frame::new(&scene, &cam, bad).err(), Some(Error::InvalidSamples));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn new(
+        scene: &'a Scene<S, L>,
+        camera: &'a Camera,
+        options: RenderOptions,
+    ) -> Result<Self, Error> {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::FITS;
+        if !(1..=16).contains(&options.samples) {
+            return Err(Error::InvalidSamples);
+        }
+        let mut frame = Frame {
+            scene,
+            camera,
+            samples: options.samples as u32,
+            encoding: options.encoding,
+            eye: heapless::Vec::new(),
+            boxes: heapless::Vec::new(),
+            lights: [const { heapless::Vec::new() }; L],
+            sweeps: heapless::Vec::new(),
+            shadow_rays: scene.shadows() && !scene.lights().is_empty(),
+            all: heapless::Vec::new(),
+            near: heapless::Vec::new(),
+        };
+        frame.prepare();
+        Ok(frame)
+    }
+
+    /// Fills the per-frame tables where they lie. Built apart and moved in, the per-light
+    /// tables were copied whole, capacity included (0.7 MB at `Frame<1024, 32>`): 3.2 MB of
+    /// copies and 0.5 MB of zeroing, most of `Frame::new`'s time and serial before a
+    /// multi-threaded render. One copy is left, the frame's return by value.
+    fn prepare(&mut self) {
+        let (scene, camera) = (self.scene, self.camera);
+        // Capacity S, at most S spheres (below `REST`, `FITS`), and at most L lights (the
+        // scene's capacity): none of the pushes can fail.
+        let screen = Screen::new(camera);
+        for (s, sphere) in scene.spheres().iter().enumerate() {
+            let k = Prepared::exact(camera.eye(), sphere);
+            let _ = self.boxes.push(screen.sphere_box(&k));
+            let _ = self
+                .near
+                .push(crate::geometry::offset_is_near(k.f, k.r, scene.near2(s)));
+            let _ = self.all.push(s as u16);
+            let _ = self.eye.push(k);
+        }
+        let axes = camera.basis();
+        for (light, consts) in scene.lights().iter().zip(&mut self.lights) {
+            if let (Light::Point { position, .. }, true) = (light, scene.shadows()) {
+                for s in scene.spheres() {
+                    let _ = consts.push(Prepared::exact(*position, s).c);
+                }
+            }
+            if scene.shadows() && Self::SWEEPS {
+                let _ = self.sweeps.push(Sweep::empty());
+                if let Some(sweep) = self.sweeps.last_mut() {
+                    sweep.fill(light, scene.spheres(), axes.0, axes.1);
+                }
+            }
+        }
+    }
+
+    /// Image width in pixels.
+    ///
+    /// ```
+    /// # use microray::{Camera, Frame, RenderOptions, Scene, Vec3};
+    /// # let scene: Scene<1, 0> = Scene::new();
+    /// # let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 3)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// assert_eq!((frame.width(), frame.height()), (4, 3));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn width(&self) -> u32 {
+        self.camera.width()
+    }
+
+    /// Image height in pixels.
+    ///
+    /// ```
+    /// # use microray::{Camera, Frame, RenderOptions, Scene, Vec3};
+    /// # let scene: Scene<1, 0> = Scene::new();
+    /// # let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 3)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// assert_eq!(frame.height(), 3);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn height(&self) -> u32 {
+        self.camera.height()
+    }
+
+    /// The screen box of every sphere, in scene order: a primary ray through pixel `(i, j)`
+    /// can hit sphere `s` only if `boxes()[s]` contains `(i, j)`.
+    ///
+    /// ```
+    /// # use microray::{Camera, Frame, Material, RenderOptions, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<2, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::ZERO, 0.5), Material::default())?;
+    /// scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, 9.0), 1.0), Material::default())?; // behind
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 64, 64)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let b = frame.boxes()[0];
+    /// assert!(b.contains(32, 32) && !b.contains(0, 0));
+    /// assert!(frame.boxes()[1].is_empty());
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn boxes(&self) -> &[PixelBox] {
+        &self.boxes
+    }
+}

@@ -1,0 +1,468 @@
+//! Pixels, rows, bands and tiles: the public render calls, the row iterator, and the
+//! brute-force reference path.
+
+use super::*;
+
+impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
+    /// The linear colour seen along a primary ray from the eye, tested against every sphere:
+    /// the brute-force reference of the renderer (it takes any ray, so no screen box applies).
+    ///
+    /// ```
+    /// # use microray::{Camera, Color, Frame, RenderOptions, Scene, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.set_background(Color::splat(0.3))?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// assert_eq!(frame.trace(&cam.ray(2.0, 2.0)), Color::splat(0.3));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn trace(&self, ray: &Ray) -> Color {
+        self.shade_from(ray, self.primary_hit(ray), None)
+    }
+
+    /// The linear colour of pixel `(i, j)`: the average of its `samples²` rays, unclamped.
+    /// Primary rays test only the spheres whose screen box holds the pixel; shadow rays test
+    /// every sphere (use [`Frame::render_rows`] for whole rows, which culls those too).
+    ///
+    /// ```
+    /// # use microray::{Camera, Color, Frame, RenderOptions, Scene, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.set_background(Color::splat(2.0))?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions { samples: 2, ..Default::default() })?;
+    /// assert_eq!(frame.pixel_color(0, 0), Color::splat(2.0));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn pixel_color(&self, i: u32, j: u32) -> Color {
+        let mut cands: List<S> = heapless::Vec::new();
+        for (s, b) in self.boxes.iter().enumerate() {
+            if b.contains(i, j) {
+                let _ = cands.push(s as u16);
+            }
+        }
+        self.average(i, j, |ray| {
+            self.shade_from(ray, self.primary_hit_among(ray, i, &cands), None)
+        })
+    }
+
+    /// [`Frame::pixel_color`] the brute-force way: every ray against every sphere. The
+    /// reference that the accelerated paths must equal bit for bit.
+    ///
+    /// ```
+    /// # use microray::{Camera, Color, Frame, Material, RenderOptions, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// assert_eq!(frame.pixel_color_brute(4, 4), frame.pixel_color(4, 4));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn pixel_color_brute(&self, i: u32, j: u32) -> Color {
+        self.average(i, j, |ray| self.trace(ray))
+    }
+
+    /// The average over the pixel's `samples²` rays of `f(ray)` (with one sample, `f(ray)`
+    /// itself). `f` is called from one place, so it is inlined once.
+    #[inline]
+    pub(super) fn average(&self, i: u32, j: u32, mut f: impl FnMut(&Ray) -> Color) -> Color {
+        let n = self.samples;
+        let mut sum = Color::ZERO;
+        for sy in 0..n {
+            for sx in 0..n {
+                let c = f(&self.camera.primary_ray(i, j, sx, sy, n));
+                if n == 1 {
+                    return c;
+                }
+                sum += c;
+            }
+        }
+        sum / (n * n) as f32
+    }
+
+    /// The encoded colour of pixel `(i, j)` (row 0 at the top).
+    ///
+    /// ```
+    /// # use embedded_graphics::pixelcolor::Rgb888;
+    /// # use microray::{Camera, Color, Frame, RenderOptions, Scene, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.set_background(Color::new(1.0, 0.5, 0.0))?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// assert_eq!(frame.pixel(3, 3), Rgb888::new(255, 128, 0));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn pixel(&self, i: u32, j: u32) -> Rgb888 {
+        self.encode(self.pixel_color(i, j))
+    }
+
+    /// The pixels of row `j`, left to right, traced span by span with every culling of
+    /// [`Frame::render_rows`]; for displays that consume a row as an iterator. Rows past the
+    /// image yield nothing.
+    ///
+    /// ```
+    /// # use embedded_graphics::pixelcolor::Rgb888;
+    /// # use microray::{Camera, Color, Frame, RenderOptions, Scene, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.set_background(Color::new(1.0, 0.5, 0.0))?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// assert!(frame.row(1).all(|p| p == Rgb888::new(255, 128, 0)));
+    /// assert_eq!(frame.row(1).count(), 4);
+    /// assert_eq!(frame.row(4).count(), 0);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    // Out of line: whatever temporary the compiler builds the `Row` in stays in this frame,
+    // which is gone before the row is traced (a caller's frame would keep it).
+    #[inline(never)]
+    pub fn row(&self, j: u32) -> Row<'_, 'a, S, L> {
+        // The row's lists are made by its first pixel: the `Row` is built in place, never
+        // moved with them filled in (it is large, microcontroller stacks are small).
+        Row {
+            frame: self,
+            j,
+            i: 0,
+            end: if j < self.height() { self.width() } else { 0 },
+            cull: Cull::new(),
+        }
+    }
+
+    /// Starts row `j`: its spheres are those whose box crosses it, in scene order.
+    pub(super) fn start_row(&self, j: u32, cull: &mut Cull<S, L>) {
+        cull.row.clear();
+        for (s, b) in self.boxes.iter().enumerate() {
+            if b.has_row(j) {
+                let _ = cull.row.push(s as u16);
+            }
+        }
+        self.start_miss(cull);
+    }
+
+    /// [`Frame::start_row`] for the `n` rows from `j` that a span gathers at once (a tile,
+    /// `Cull::rows`): their spheres are those whose box crosses any of them.
+    #[cfg(lanes)]
+    pub(super) fn start_rows(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
+        cull.row.clear();
+        for (s, b) in self.boxes.iter().enumerate() {
+            if (j..j + n).any(|r| b.has_row(r)) {
+                let _ = cull.row.push(s as u16);
+            }
+        }
+        cull.rows = n;
+        self.start_miss(cull);
+    }
+
+    /// The rest of starting rows: no span yet, and the pixel of every ray that misses.
+    #[inline(always)]
+    pub(super) fn start_miss(&self, cull: &mut Cull<S, L>) {
+        cull.span_end = 0;
+        // A miss shows the background, whatever its ray: one pixel for all of them. Shaded
+        // here, on the render path's stack, rather than in `Frame::new` (set-up's).
+        let nowhere = Ray::new(self.camera.eye(), Vec3::ZERO);
+        cull.miss = self.encode(self.shade_from(&nowhere, None, None));
+    }
+
+    /// The pixel `(i, j)` of row `j`, pixels taken in order from `i = 0` (which starts the
+    /// row with [`Frame::start_row`]).
+    #[inline]
+    pub(super) fn next_pixel(&self, j: u32, i: u32, cull: &mut Cull<S, L>) -> Rgb888 {
+        if i == 0 {
+            self.start_row(j, cull);
+        }
+        if i >= cull.span_end {
+            self.start_span(j, i, cull);
+        }
+        #[cfg(lanes)]
+        {
+            // Hosts shade the whole span at its start (`fill_span`).
+            let k = (i - cull.span_start) as usize;
+            cull.px.get(k).copied().unwrap_or(cull.miss)
+        }
+        #[cfg(not(lanes))]
+        self.span_pixel(j, i, cull)
+    }
+
+    /// Starts the span of row `j` at column `i`: its candidates, hits and bounds
+    /// ([`Frame::gather`]), and on hosts all its pixels ([`Frame::fill_span`]).
+    #[inline(always)]
+    pub(super) fn start_span(&self, j: u32, i: u32, cull: &mut Cull<S, L>) {
+        cull.span_start = i;
+        cull.span_end = (i + SPAN as u32).min(self.width());
+        self.gather(j, cull);
+        #[cfg(lanes)]
+        self.fill_span(j, cull);
+    }
+
+    /// Every pixel of the span just gathered into `cull.px`: groups of four in lanes
+    /// (`shade_span4`), the others one by one, so that the pixel loop only reads them.
+    #[cfg(lanes)]
+    #[inline(never)]
+    pub(super) fn fill_span(&self, j: u32, cull: &mut Cull<S, L>) {
+        cull.done = 0;
+        if cull.stored {
+            self.shade_span4(cull);
+        }
+        let len = cull.span_len();
+        let span = if len >= 32 { u32::MAX } else { (1 << len) - 1 };
+        for k in crate::simd::ones(!cull.done & span) {
+            let c = self.span_pixel(j, cull.span_start + k as u32, cull);
+            if let Some(p) = cull.px.get_mut(k) {
+                *p = c;
+            }
+        }
+    }
+
+    /// Pixel `(i, j)` of the span gathered in `cull`, shaded on its own.
+    #[inline(always)]
+    pub(super) fn span_pixel(&self, j: u32, i: u32, cull: &Cull<S, L>) -> Rgb888 {
+        let c = if cull.stored {
+            let k = cull.slot((i - cull.span_start) as usize);
+            // A miss: the pixel `start_row` shaded for all of them (gather built no ray).
+            let Some((t, s)) = cull.hit(k) else {
+                return cull.miss;
+            };
+            let dir = match cull.dir(k) {
+                Some(dir) => dir,
+                None => self.camera.primary_ray(i, j, 0, 0, 1).dir,
+            };
+            let ray = Ray::new(self.camera.eye(), dir);
+            // The scalar path's speed builds build the hit record where they shade it; hosts
+            // and size builds go on below.
+            #[cfg(not(any(lanes, size_opt)))]
+            return self.shade_stored(&ray, t, s as usize, cull.lists_at(k));
+            // The hit record from (t, sphere): `make_hit` is a pure function of them. Its ray
+            // built anew from the values, not read back from `ray`, which shading takes by
+            // address: M4F loaded the direction and eye through core registers to copy them.
+            #[allow(unreachable_code)]
+            let first = if KEEPS_OFFSETS && SPHERE_MAJOR {
+                self.kept_hit(&ray, t, s as usize, k, cull)
+            } else {
+                self.eye_hit(&Ray::new(self.camera.eye(), dir), t, s as usize)
+            };
+            self.shade_from(&ray, first, cull.lists_at(k))
+        } else if KEPT > 1 && cull.kept {
+            let k = (i - cull.span_start) as usize;
+            // `average`'s sum, in its order, of the samples' kept hits (slot `m·SPAN + k`).
+            let n = self.samples;
+            let mut sum = Color::ZERO;
+            for m in 0..n * n {
+                let slot = m as usize * SPAN + k;
+                sum += match cull.hit(slot) {
+                    Some(h) => self.shade_kept(i, j, slot, h, cull),
+                    // What `shade_from` gives a ray that hits nothing.
+                    None => self.scene.background(),
+                };
+            }
+            sum / (n * n) as f32
+        } else {
+            self.average(i, j, |ray| {
+                let hit = self.primary_hit_among(ray, i, &cull.span);
+                let lists = hit.as_ref().and_then(|h| cull.lists(h.sphere));
+                self.shade_from(ray, hit, lists)
+            })
+        };
+        self.encode(c)
+    }
+
+    /// Renders rows `first_row ..` into `buf`, which holds a whole number of rows; returns how
+    /// many rows it rendered. This is how a microcontroller without room for a framebuffer
+    /// streams an image, and how the desktop renderer splits a frame between threads.
+    ///
+    /// ```
+    /// # use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
+    /// # use microray::{Camera, Color, Error, Frame, RenderOptions, Scene, Vec3};
+    /// # let mut scene: Scene<1, 0> = Scene::new();
+    /// # scene.set_background(Color::new(1.0, 0.0, 0.0))?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 6)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut band = [Rgb565::new(0, 0, 0); 2 * 8]; // two rows, straight into a display format
+    /// for first in (0..6).step_by(2) {
+    ///     assert_eq!(frame.render_rows(first, &mut band)?, 2);
+    ///     // ... send `band` to the display ...
+    /// }
+    /// assert_eq!(band[0], Rgb565::new(31, 0, 0));
+    /// assert_eq!(frame.render_rows(5, &mut band), Err(Error::BufferSize)); // only 1 row left
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn render_rows<C: From<Rgb888>>(
+        &self,
+        first_row: u32,
+        buf: &mut [C],
+    ) -> Result<u32, Error> {
+        let rows = self.check_rows(first_row, buf.len())?;
+        let w = self.width() as usize;
+        // Hosts: tile by tile (`tile_rows`).
+        #[cfg(lanes)]
+        let _ = self.tile_rows(first_row, rows, |t: TileRow<'_>| {
+            for (o, &p) in t.place(buf, first_row, w).iter_mut().zip(t.px) {
+                *o = p.into();
+            }
+            Ok::<(), core::convert::Infallible>(())
+        });
+        // Cortex-M: row by row, as `Row` does.
+        #[cfg(not(lanes))]
+        {
+            let mut cull = Cull::new();
+            for (r, row) in buf.chunks_exact_mut(w).enumerate() {
+                let j = first_row + r as u32;
+                for (i, px) in row.iter_mut().enumerate() {
+                    *px = self.next_pixel(j, i as u32, &mut cull).into();
+                }
+            }
+        }
+        Ok(rows)
+    }
+
+    /// Rows `first ..first + n` as hosts trace them: span by span, each span shaded whole by
+    /// `fill_span`, and with one sample a pixel and shadow rays `KEPT` (8) rows at a time (a
+    /// tile), whose hits the sample slots hold: one set of shadow lists for the tile's groups
+    /// instead of one per row. A tile's bounds are barely larger than a row's (a span is 32
+    /// pixels wide), and the lists were a quarter of a shadowed frame's time. `out` gets each
+    /// row of each span of each tile in turn; its first error ends it.
+    #[cfg(lanes)]
+    pub(crate) fn tile_rows<E>(
+        &self,
+        first: u32,
+        n: u32,
+        mut out: impl FnMut(TileRow<'_>) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let tile = if self.samples == 1 && self.shadow_rays {
+            KEPT as u32
+        } else {
+            1
+        };
+        let end = (first + n).min(self.height());
+        let mut cull = Cull::new();
+        let mut j = first;
+        while j < end {
+            let rows = tile.min(end - j);
+            self.start_rows(j, rows, &mut cull);
+            for m in 0..self.width().div_ceil(SPAN as u32) {
+                let i = m * SPAN as u32;
+                cull.span_start = i;
+                cull.span_end = (i + SPAN as u32).min(self.width());
+                self.gather(j, &mut cull);
+                for r in 0..rows {
+                    cull.base = r as usize * SPAN;
+                    self.fill_span(j + r, &mut cull);
+                    let px = cull.px.get(..cull.span_len()).unwrap_or(&[]);
+                    out(TileRow { i, j: j + r, px })?;
+                }
+            }
+            j += rows;
+        }
+        Ok(())
+    }
+
+    /// [`Frame::render_rows`] the brute-force way, every ray against every sphere: the
+    /// reference for tests and benchmarks.
+    ///
+    /// ```
+    /// # use embedded_graphics::pixelcolor::Rgb888;
+    /// # use microray::{Camera, Frame, Material, RenderOptions, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let (mut a, mut b) = ([Rgb888::new(0, 0, 0); 64], [Rgb888::new(0, 0, 0); 64]);
+    /// frame.render_rows(0, &mut a)?;
+    /// frame.render_rows_brute(0, &mut b)?;
+    /// assert_eq!(a, b);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn render_rows_brute<C: From<Rgb888>>(
+        &self,
+        first_row: u32,
+        buf: &mut [C],
+    ) -> Result<u32, Error> {
+        let rows = self.check_rows(first_row, buf.len())?;
+        let w = self.width() as usize;
+        for (r, row) in buf.chunks_exact_mut(w).enumerate() {
+            let j = first_row + r as u32;
+            for (i, px) in row.iter_mut().enumerate() {
+                *px = self.encode(self.pixel_color_brute(i as u32, j)).into();
+            }
+        }
+        Ok(rows)
+    }
+
+    /// How many rows a buffer of `len` pixels holds, if whole rows inside the image.
+    pub(super) fn check_rows(&self, first_row: u32, len: usize) -> Result<u32, Error> {
+        let w = self.width() as usize; // ≥ 1 (Camera checks); checked_div links no panic
+        let (Some(rows), Some(0)) = (len.checked_div(w), len.checked_rem(w)) else {
+            return Err(Error::BufferSize);
+        };
+        if first_row as usize + rows > self.height() as usize {
+            return Err(Error::BufferSize);
+        }
+        Ok(rows as u32)
+    }
+
+    /// Renders the whole image into `buf` (`width × height` pixels, row by row from the top).
+    ///
+    /// ```
+    /// # use embedded_graphics::pixelcolor::Rgb888;
+    /// # use microray::{Camera, Error, Frame, RenderOptions, Scene, Vec3};
+    /// # let scene: Scene<1, 0> = Scene::new();
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 3)?;
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut too_small = [Rgb888::new(0, 0, 0); 4 * 2];
+    /// assert_eq!(frame.render(&mut too_small), Err(Error::BufferSize));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn render<C: From<Rgb888>>(&self, buf: &mut [C]) -> Result<(), Error> {
+        if buf.len() != self.width() as usize * self.height() as usize {
+            return Err(Error::BufferSize);
+        }
+        self.render_rows(0, buf).map(|_| ())
+    }
+}
+
+/// One row of one span of a tile (see [`Frame::tile_rows`]): the pixels `(i.., j)`.
+#[cfg(lanes)]
+pub(crate) struct TileRow<'p> {
+    pub(crate) i: u32,
+    pub(crate) j: u32,
+    pub(crate) px: &'p [Rgb888],
+}
+
+#[cfg(lanes)]
+impl TileRow<'_> {
+    /// Where these pixels go in `buf`, whole rows of `w` pixels from row `first_row`: the rest
+    /// of `buf` from pixel `(i, j)` (empty past its end).
+    #[inline(always)]
+    pub(crate) fn place<'b, C>(&self, buf: &'b mut [C], first_row: u32, w: usize) -> &'b mut [C] {
+        let at = (self.j - first_row) as usize * w + self.i as usize;
+        buf.get_mut(at..).unwrap_or(&mut [])
+    }
+}
+
+/// The pixels of one row, traced span by span (see [`Frame::row`]).
+#[derive(Debug)]
+pub struct Row<'f, 'a, const S: usize, const L: usize> {
+    pub(super) frame: &'f Frame<'a, S, L>,
+    pub(super) j: u32,
+    pub(super) i: u32,
+    pub(super) end: u32,
+    pub(super) cull: Cull<S, L>,
+}
+
+impl<const S: usize, const L: usize> Iterator for Row<'_, '_, S, L> {
+    type Item = Rgb888;
+
+    // Out of line: the row's whole pixel pipeline, which displays reach through adapters
+    // (`by_ref`, `map`); one copy of it, whatever wraps the row.
+    #[inline(never)]
+    fn next(&mut self) -> Option<Rgb888> {
+        if self.i >= self.end {
+            return None;
+        }
+        let px = self.frame.next_pixel(self.j, self.i, &mut self.cull);
+        self.i += 1;
+        Some(px)
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let n = (self.end - self.i) as usize;
+        (n, Some(n))
+    }
+}

@@ -1,0 +1,460 @@
+//! Shadow sweeps: per light, its spheres sorted by a key across the light's direction, so that
+//! a span's shadow candidates are found by a bucketed search instead of a scan.
+
+use super::*;
+
+/// Angular margin of the sweep keys of point lights (radians): far above the rounding of
+/// `atan2f` and of the unit directions' components.
+pub(super) const ANGLE_MARGIN: f32 = 1e-4;
+
+/// One light's spheres sorted by a key, so that a span finds its possible shadow blockers by a
+/// search in a bucket instead of testing every sphere, and filtered by a second key (`axis2`):
+/// for a point light, the component along an axis across the light of the unit direction from
+/// the light to the sphere, with the half-angle of the sphere's (padded) cone as half-width;
+/// for a directional light, the position along an axis across the light, with the padded
+/// radius as half-width. A sphere can block a shadow ray from a span only if its key interval
+/// meets the span's (two unit directions at an angle θ differ by at most θ in any component; a
+/// distance is at least the difference of its projections), so the band is a superset of
+/// [`may_block`]'s answers, which then decides.
+/// Spheres much wider than the rest (a ground, a wall) would widen every band: they are kept
+/// apart and always tested.
+#[derive(Debug)]
+pub(super) struct Sweep<const S: usize> {
+    /// The wide spheres.
+    pub(super) wide: List<S>,
+    /// The rest sorted by key, by field: hosts weigh four entries at a time (`Frame::gather`).
+    pub(super) key: heapless::Vec<f32, S>,
+    /// Each one's half-width of its padded cone (angle) or radius (length) along the key.
+    pub(super) half: heapless::Vec<f32, S>,
+    /// Each one's coordinate along `axis2`.
+    pub(super) key2: heapless::Vec<f32, S>,
+    pub(super) sphere: List<S>,
+    /// The largest half-width of the sorted ones.
+    pub(super) hw_max: f32,
+    /// Where a scan starts: `start[b]` counts the sorted entries whose [`Sweep::bucket`] is
+    /// below `b` (one more than the buckets, the last the number of entries), so that a
+    /// search for a key needs only its bucket's few entries. The binary search over all of
+    /// them, a chain of dependent loads, was a third of the scan's time at 256 spheres.
+    pub(super) start: List<S>,
+    /// The smallest key, and buckets per unit of key (zero: one bucket).
+    pub(super) k_lo: f32,
+    pub(super) per_key: f32,
+    /// The key axis (unit, across the light: a point light's mean direction to the spheres).
+    pub(super) axis: Vec3,
+    /// A second axis (unit, across the light and `axis`), whose coordinates are each entry's
+    /// `key2`: a sphere must be near the span in both keys, a tube along the light instead of
+    /// a slab.
+    pub(super) axis2: Vec3,
+}
+
+/// One sphere in a [`Sweep`], while it is built.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Entry {
+    /// Its position along the sweep's axis (of its unit direction, for a point light).
+    pub(super) key: f32,
+    /// The half-width of its padded cone (angle) or radius (length) along the key.
+    pub(super) half: f32,
+    pub(super) sphere: u16,
+    /// Its coordinate along `Sweep::axis2`.
+    pub(super) key2: f32,
+}
+
+impl Entry {
+    pub(super) fn new(key: f32, half: f32, sphere: usize, key2: f32) -> Self {
+        Entry {
+            key,
+            half,
+            sphere: sphere as u16,
+            key2,
+        }
+    }
+}
+
+impl<const S: usize> Sweep<S> {
+    pub(super) const fn empty() -> Self {
+        Sweep {
+            wide: heapless::Vec::new(),
+            key: heapless::Vec::new(),
+            half: heapless::Vec::new(),
+            key2: heapless::Vec::new(),
+            sphere: heapless::Vec::new(),
+            hw_max: 0.0,
+            start: heapless::Vec::new(),
+            k_lo: 0.0,
+            per_key: 0.0,
+            axis: Vec3::ZERO,
+            axis2: Vec3::ZERO,
+        }
+    }
+
+    /// The bucket of a key: a non-decreasing function of it (a subtraction, a product by a
+    /// constant ≥ 0 and a saturating conversion, each monotonic in IEEE arithmetic), so that
+    /// the entries before `start[bucket(x)]` have keys below `x` and those from
+    /// `start[bucket(x) + 1]` keys above it.
+    #[inline(always)]
+    pub(super) fn bucket(&self, key: f32) -> usize {
+        let x = (key - self.k_lo) * self.per_key;
+        let last = self.start.len().saturating_sub(2);
+        // `!(x >= 0)` also takes a NaN (x = 0·∞) to the first bucket.
+        if !(x >= 0.0) {
+            0
+        } else {
+            (x as usize).min(last)
+        }
+    }
+
+    /// Sorts `spheres` for `light` into this sweep, which must be empty.
+    pub(super) fn fill(&mut self, light: &Light, spheres: &[crate::Sphere], u: Vec3, v: Vec3) {
+        // Keys across the light's direction (a point light's: the mean direction from it to
+        // the spheres, else the view's), where they spread the spheres the most: a point
+        // light's are the components of the unit direction to each sphere, which two
+        // directions at an angle θ differ in by at most 2 sin(θ/2) ≤ θ, so angular
+        // half-widths bound them (an angle from one axis took an `atan2f` per span).
+        let along = match *light {
+            Light::Point { position, .. } => spheres
+                .iter()
+                .filter_map(|s| (s.center - position).normalized())
+                .fold(Vec3::ZERO, |sum, d| sum + d)
+                .normalized()
+                .or_else(|| u.cross(v).normalized()),
+            Light::Directional { direction, .. } => Some(direction),
+        };
+        let axis = along.and_then(|c| {
+            // The camera's right (or up) vector without its component along `c`.
+            let across = |a: Vec3| a - c * a.dot(c);
+            let a = across(u);
+            let a = if a.dot(a) > 0.01 { a } else { across(v) };
+            a.normalized()
+        });
+        let (Some(along), Some(axis)) = (along, axis) else {
+            return;
+        };
+        self.axis = axis;
+        // The third coordinate, which the keys leave out, is then along the light, where a
+        // scene's spheres seldom lie on both sides of a point light.
+        self.axis2 = along.cross(axis).normalized().unwrap_or(Vec3::ZERO);
+        let axis2 = self.axis2;
+        let mut all: heapless::Vec<Entry, S> = heapless::Vec::new();
+        for (s, sphere) in spheres.iter().enumerate() {
+            let (m, r) = (sphere.center, sphere.radius);
+            let l1 = |w: Vec3| libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z);
+            let e = match *light {
+                Light::Point { position, .. } => {
+                    // The same padded radius as `may_block`.
+                    let w = m - position;
+                    let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(w) + r);
+                    let ww = w.dot(w);
+                    if !(ww > big * big * 1.01) {
+                        // The light inside or near: wide.
+                        Entry::new(0.0, f32::INFINITY, s, 0.0)
+                    } else {
+                        let hw = libm::atan2f(big, libm::sqrtf(ww - big * big));
+                        let len = libm::sqrtf(ww);
+                        Entry::new(axis.dot(w) / len, hw, s, axis2.dot(w) / len)
+                    }
+                }
+                Light::Directional { .. } => {
+                    // `may_block` pads with 2η|m − q|₁ ≤ 2η(|m|₁ + |q|₁); the |q|₁ part and
+                    // the rounding of keys (1e-5 of |m|₁, |q|₁) are added per span.
+                    let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(m) + r) + 1e-5 * l1(m);
+                    Entry::new(axis.dot(m), big, s, axis2.dot(m))
+                }
+            };
+            let _ = all.push(e);
+        }
+        // "Wide": more than 8 times the median half-width.
+        let mut hws: heapless::Vec<f32, S> = all.iter().map(|e| e.half).collect();
+        hws.sort_unstable_by(|a, b| a.total_cmp(b));
+        let median = hws.get(hws.len() / 2).copied().unwrap_or(0.0);
+        let is_wide =
+            |e: &Entry| !(e.half <= 8.0 * median && e.key.is_finite() && e.key2.is_finite());
+        for e in all.iter().filter(|e| is_wide(e)) {
+            let _ = self.wide.push(e.sphere);
+        }
+        all.retain(|e| !is_wide(e));
+        all.sort_unstable_by(|a, b| a.key.total_cmp(&b.key));
+        // At most S entries in all: none of the pushes can fail.
+        for e in &all {
+            let _ = self.key.push(e.key);
+            let _ = self.half.push(e.half);
+            let _ = self.key2.push(e.key2);
+            let _ = self.sphere.push(e.sphere);
+            self.hw_max = self.hw_max.max(e.half);
+        }
+        self.index();
+    }
+
+    /// The index of the first key ≥ `x` (`key.partition_point(|&k| k < x)`), searched in
+    /// `x`'s bucket only.
+    #[cfg(test)]
+    pub(super) fn first(&self, x: f32) -> usize {
+        self.first_in(self.bucket(x), x)
+    }
+
+    /// [`Sweep::first`] of `x` in its bucket `b`.
+    #[inline(always)]
+    pub(super) fn first_in(&self, b: usize, x: f32) -> usize {
+        let (lo, hi) = (self.start.get(b), self.start.get(b + 1));
+        let (lo, hi) = (
+            lo.map_or(0, |&i| i as usize),
+            hi.map_or(self.key.len(), |&i| i as usize),
+        );
+        lo + self
+            .key
+            .get(lo..hi)
+            .map_or(0, |keys| keys.partition_point(|&k| k < x))
+    }
+
+    /// An index at or before [`Sweep::first`]`(x)`, and at most 8 entries before it: its
+    /// bucket's start where the bucket is that small (a search there cost more, in
+    /// mispredicted branches, than scanning its keys in lanes: 2% of the 256-sphere frame).
+    #[inline(always)]
+    pub(super) fn near_first(&self, x: f32) -> usize {
+        let b = self.bucket(x);
+        match (self.start.get(b), self.start.get(b + 1)) {
+            (Some(&lo), Some(&hi)) if hi - lo <= 8 => lo as usize,
+            _ => self.first_in(b, x),
+        }
+    }
+
+    /// Builds `start` for the sorted keys: about four entries a bucket, evenly spaced in key.
+    pub(super) fn index(&mut self) {
+        self.start.clear();
+        let n = self.key.len();
+        let buckets = (n / 4).max(1);
+        if let (Some(&lo), Some(&hi)) = (self.key.first(), self.key.last()) {
+            let per_key = buckets as f32 / (hi - lo);
+            self.k_lo = lo;
+            self.per_key = if per_key.is_finite() { per_key } else { 0.0 };
+        }
+        // At most S / 4 + 1 ≤ S values, or two for no entry: only a sweep of capacity 1
+        // (never built, `SWEEPS`) could lack room, and `first` then searches all keys.
+        for _ in 0..=buckets {
+            let _ = self.start.push(0);
+        }
+        let mut i = 0;
+        for b in 0..=buckets {
+            while self.key.get(i).is_some_and(|&k| self.bucket(k) < b) {
+                i += 1;
+            }
+            if let Some(first) = self.start.get_mut(b) {
+                *first = i as u16;
+            }
+        }
+    }
+
+    /// Calls `consider` with the sorted spheres, in their order, whose `|key_j − key| ≤
+    /// half_j + slack` and `|key2_j − key2| ≤ half_j + slack` among those with `key_j` within
+    /// `band` of `key` (see [`Sweep::band`]), and a few before them that pass the same test
+    /// only by rounding (a candidate more, which the shadow test decides).
+    #[inline(always)]
+    pub(super) fn scan(
+        &self,
+        key: f32,
+        band: f32,
+        slack: f32,
+        key2: f32,
+        consider: &mut impl FnMut(u16),
+    ) {
+        let (hi, n) = (key + band, self.key.len());
+        // Within a few entries of the first key ≥ key − band: the keys before that are more
+        // than `band` from `key` but for rounding, and the filter below decides them.
+        let mut i = self.near_first(key - band);
+        // Hosts: four entries at a time, the same comparisons lane by lane; the keys are sorted,
+        // so the entries within the band are a prefix of the four.
+        #[cfg(lanes)]
+        {
+            use crate::simd::{bits, ones, F};
+            use wide::CmpLe;
+            fn from(v: &[f32], i: usize) -> &[f32] {
+                v.get(i..).unwrap_or(&[])
+            }
+            let (ks, hs, k2s) = (from(&self.key, i), from(&self.half, i), from(&self.key2, i));
+            let ss = self.sphere.get(i..).unwrap_or(&[]);
+            let quads = ks.chunks_exact(4).zip(hs.chunks_exact(4));
+            for ((k, h), (k2, s)) in quads.zip(k2s.chunks_exact(4).zip(ss.chunks_exact(4))) {
+                let four = |c: &[f32]| <[f32; 4]>::try_from(c).ok().map(F::from);
+                let (Some(k), Some(h), Some(k2)) = (four(k), four(h), four(k2)) else {
+                    break;
+                };
+                let near = h + F::splat(slack);
+                let within = k.cmp_le(F::splat(hi));
+                let keep = within
+                    & (k - F::splat(key)).abs().cmp_le(near)
+                    & (k2 - F::splat(key2)).abs().cmp_le(near);
+                for l in ones(bits(keep)) {
+                    if let Some(&s) = s.get(l) {
+                        consider(s);
+                    }
+                }
+                if bits(within) != 0b1111 {
+                    return;
+                }
+                i += 4;
+            }
+        }
+        while i < n {
+            let (Some(&k), Some(&h), Some(&k2), Some(&s)) = (
+                self.key.get(i),
+                self.half.get(i),
+                self.key2.get(i),
+                self.sphere.get(i),
+            ) else {
+                return;
+            };
+            if k > hi {
+                return;
+            }
+            // `&`, not `&&`: one branch on the outcome rather than two.
+            let near = h + slack;
+            if (libm::fabsf(k - key) <= near) & (libm::fabsf(k2 - key2) <= near) {
+                consider(s);
+            }
+            i += 1;
+        }
+    }
+
+    /// For shadow rays from the ball `(q, rho)`: `(self, key, band, slack, key2)` where the
+    /// spheres to consider have `|key_j − key| ≤ half-width_j + slack` (so `key_j` within
+    /// `band`) and, along `axis2`, `|key2_j − key2| ≤ half-width_j + slack`; or `None` when the
+    /// sweep does not apply (no axis, or the light inside the ball).
+    pub(super) fn band(
+        &self,
+        light: &Light,
+        q: Vec3,
+        rho: f32,
+    ) -> Option<(&Self, f32, f32, f32, f32)> {
+        if self.axis == Vec3::ZERO {
+            return None;
+        }
+        let l1 = libm::fabsf(q.x) + libm::fabsf(q.y) + libm::fabsf(q.z);
+        let (key, slack, key2) = match *light {
+            Light::Point { position, .. } => {
+                let v = q - position;
+                let vv = v.dot(v);
+                if !(vv > rho * rho * 1.01) {
+                    return None;
+                }
+                let len = libm::sqrtf(vv);
+                let (key, key2) = (self.axis.dot(v) / len, self.axis2.dot(v) / len);
+                // The ball's half-angle seen from the light is atan of this, and atan x ≤ x:
+                // a wider band, never a narrower one, without an `atan2f` per span.
+                let tan_theta = rho / libm::sqrtf(vv - rho * rho);
+                (key, tan_theta + ANGLE_MARGIN, key2)
+            }
+            // The same bound holds along any unit axis across a directional light.
+            Light::Directional { .. } => (
+                self.axis.dot(q),
+                rho + 2.0 * ETA * (l1 + rho) + rho + 1e-5 * l1,
+                self.axis2.dot(q),
+            ),
+        };
+        if !(key.is_finite() && slack.is_finite() && key2.is_finite()) {
+            return None;
+        }
+        Some((self, key, self.hw_max + slack, slack, key2))
+    }
+}
+
+/// [`may_block`] of four spheres (centres `m`, radii `r`) at once in vector lanes (`cfg(lanes)`):
+/// the same operations lane by lane, so the same answers, as bits `0..4`.
+#[cfg(lanes)]
+#[inline(always)]
+pub(super) fn may_block4(light: &Light, m: [Vec3; 4], r: [f32; 4], q: Vec3, rho: f32) -> u32 {
+    use wide::{f32x4 as F, CmpGt, CmpLt};
+    let v = F::splat;
+    let (mx, my, mz) = (
+        F::from(m.map(|c| c.x)),
+        F::from(m.map(|c| c.y)),
+        F::from(m.map(|c| c.z)),
+    );
+    let r = F::from(r);
+    let (rho_v, eta2) = (v(rho), v(2.0 * ETA));
+    let not_above = |g: F, tol: F| !(g.cmp_gt(tol)).move_mask() as u32 & 0b1111;
+    match *light {
+        Light::Point { position, .. } => {
+            let (wx, wy, wz) = (mx - v(position.x), my - v(position.y), mz - v(position.z));
+            let qv = q - position;
+            let big = r * v(1.0 + 2e-4) + eta2 * (wx.abs() + wy.abs() + wz.abs() + r);
+            let (ww, vv) = (wx * wx + wy * wy + wz * wz, v(qv.dot(qv)));
+            let wv = wx * v(qv.x) + wy * v(qv.y) + wz * v(qv.z);
+            let a = vv - v(rho * rho);
+            let b = wv + big * rho_v;
+            let g0 = ww - big * big;
+            let g1 = a - v(2.0) * b + g0;
+            let gmin = g0.cmp_lt(g1).blend(g0, g1);
+            let inner = a.cmp_gt(F::ZERO) & b.cmp_gt(F::ZERO) & b.cmp_lt(a);
+            let gv = g0 - b * (b / a);
+            let gmin = (inner & gv.cmp_lt(gmin)).blend(gv, gmin);
+            let tol = v(1e-5) * (ww + vv + big * big + v(rho * rho));
+            not_above(gmin, tol)
+        }
+        Light::Directional { direction, .. } => {
+            let l = -direction;
+            let (wx, wy, wz) = (mx - v(q.x), my - v(q.y), mz - v(q.z));
+            let s = wx * v(l.x) + wy * v(l.y) + wz * v(l.z);
+            let ahead = s.cmp_gt(F::ZERO);
+            let (ex, ey, ez) = (
+                ahead.blend(wx - v(l.x) * s, wx),
+                ahead.blend(wy - v(l.y) * s, wy),
+                ahead.blend(wz - v(l.z) * s, wz),
+            );
+            let big =
+                r * v(1.0 + 2e-4) + eta2 * (wx.abs() + wy.abs() + wz.abs() + rho_v + r) + rho_v;
+            let d2 = ex * ex + ey * ey + ez * ez;
+            let tol = v(1e-5) * (wx * wx + wy * wy + wz * wz + big * big);
+            not_above(d2 - big * big, tol)
+        }
+    }
+}
+
+/// Whether a sphere (centre `m`, radius `r`) can block a shadow ray towards `light` from some
+/// point of the ball `(q, rho)`: a conservative test, padded well beyond the rounding of the
+/// shadow test itself and of this one.
+/// Hosts weigh candidates four at a time with [`may_block4`]; this stays the Arm path and the
+/// reference the lanes are tested against.
+#[cfg_attr(lanes, allow(dead_code))]
+#[inline]
+pub(super) fn may_block(light: &Light, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
+    match *light {
+        Light::Point { position, .. } => {
+            // Shadow rays run from the light to points of the ball: the segments fill the
+            // cone hull of the light and the ball, whose section at λ ∈ [0, 1] along
+            // v = q − light is the ball (light + λ v, λ ρ). The sphere misses it iff
+            // g(λ) = |w − λ v|² − (R + λ ρ)² > 0 on [0, 1], w = m − light.
+            let w = m - position;
+            let v = q - position;
+            // |x| + |y| + |z| ≥ |w|: a wider pad without a square root.
+            let big = r * (1.0 + 2e-4)
+                + 2.0 * ETA * (libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z) + r);
+            let (ww, vv, wv) = (w.dot(w), v.dot(v), w.dot(v));
+            let a = vv - rho * rho;
+            let b = wv + big * rho;
+            let g0 = ww - big * big;
+            let g1 = a - 2.0 * b + g0;
+            let mut gmin = if g0 < g1 { g0 } else { g1 };
+            if a > 0.0 && b > 0.0 && b < a {
+                let gv = g0 - b * (b / a);
+                if gv < gmin {
+                    gmin = gv;
+                }
+            }
+            let tol = 1e-5 * (ww + vv + big * big + rho * rho);
+            !(gmin > tol)
+        }
+        Light::Directional { direction, .. } => {
+            // Shadow rays leave points of the ball along l = −direction: the sphere misses
+            // them iff it stays farther than R + ρ from the half-line q + t l, t ≥ 0.
+            let l = -direction;
+            let w = m - q;
+            let s = w.dot(l);
+            let e = if s > 0.0 { w - l * s } else { w };
+            let big = r * (1.0 + 2e-4)
+                + 2.0 * ETA * (libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z) + rho + r)
+                + rho;
+            let d2 = e.dot(e);
+            let tol = 1e-5 * (w.dot(w) + big * big);
+            !(d2 - big * big > tol)
+        }
+    }
+}

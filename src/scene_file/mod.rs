@@ -1,0 +1,196 @@
+//! The TOML scene format (feature `scene-file`, needs std): all of it is in this module
+//! (`raw.rs`: the tables as TOML reads them; `build.rs`: validation into a scene).
+//!
+//! ```toml
+//! [camera]            # eye, look_at required; up = [0,1,0]; vfov = 60 (0 < vfov < 180)
+//! eye = [0, 1, 6]
+//! look_at = [0, 0.5, 0]
+//! [render]            # all optional: width = 640, height = 480 (1..=16384), background = 0,
+//! width = 320         # ambient = 0, shadows = true, max_depth = 3 (0..=16),
+//! height = 240        # samples = 1 (1..=16, per axis), encoding = "linear" | "srgb"
+//! [[sphere]]          # center, radius (> 0) required; diffuse = 1, specular = 0,
+//! center = [0, 0, 0]  # shininess = 32 (> 0), mirror = 0
+//! radius = 1.0
+//! diffuse = [0.8, 0.2, 0.2]
+//! [[light]]           # kind = "point" + position, or kind = "directional" + direction (≠ 0);
+//! kind = "point"      # intensity = 1
+//! position = [3, 5, 4]
+//! ```
+//!
+//! Colours take `[r, g, b]` or one number for all three; integers and floats both work. Every
+//! error names the field, and the line where the parser knows it.
+//!
+//! ```
+//! use microray::scene_file::{parse, Desktop};
+//! let file = parse::<1024, 32>("[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n")?;
+//! assert_eq!((file.width, file.height), (640, 480));
+//! let err = parse::<1024, 32>("[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 5]\n").unwrap_err();
+//! assert_eq!(err.to_string(), "line 3: camera.look_at: eye and look_at must differ");
+//! # let _: Option<Desktop> = None;
+//! # Ok::<(), microray::scene_file::SceneError>(())
+//! ```
+
+use std::fmt;
+use std::ops::Range;
+use std::path::Path;
+use std::string::{String, ToString};
+use std::vec::Vec;
+use std::{format, vec};
+
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::camera::{Camera, MAX_SIZE};
+use crate::error::Error;
+use crate::geometry::Sphere;
+use crate::math::{Color, Vec3};
+use crate::render::{Encoding, RenderOptions};
+use crate::scene::{Light, Material, Scene};
+
+mod build;
+mod raw;
+
+use build::*;
+use raw::*;
+
+/// The desktop renderer's scene: 1024 spheres and 32 lights.
+pub type Desktop = SceneFile<1024, 32>;
+
+/// A scene file, read and checked: the scene, its camera and how to render it.
+#[derive(Debug, Clone)]
+pub struct SceneFile<const S: usize, const L: usize> {
+    /// Spheres, lights and global shading settings.
+    pub scene: Scene<S, L>,
+    /// The camera for the file's `width` × `height`.
+    pub camera: Camera,
+    /// Eye, look-at, up and vertical field of view, to rebuild the camera at another size.
+    pub view: View,
+    /// Image width from the file (or 640).
+    pub width: u32,
+    /// Image height from the file (or 480).
+    pub height: u32,
+    /// Samples and encoding.
+    pub options: RenderOptions,
+}
+
+/// The camera's placement, independent of the image size.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct View {
+    /// The eye point.
+    pub eye: Vec3,
+    /// The point looked at.
+    pub look_at: Vec3,
+    /// The up direction.
+    pub up: Vec3,
+    /// Full vertical field of view in degrees.
+    pub vfov: f32,
+}
+
+impl View {
+    /// The camera for a `width` × `height` image.
+    ///
+    /// ```
+    /// # use microray::scene_file::parse;
+    /// let file = parse::<4, 1>("[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n")?;
+    /// assert_eq!(file.view.camera(32, 16)?.width(), 32);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn camera(&self, width: u32, height: u32) -> Result<Camera, Error> {
+        Camera::new(self.eye, self.look_at, self.up, self.vfov, width, height)
+    }
+}
+
+/// Why a scene file was rejected: where (file, line), which field, and what is wrong.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SceneError {
+    /// The file, once known (set by [`load`]).
+    pub file: Option<String>,
+    /// 1-based line, where the parser knows it.
+    pub line: Option<usize>,
+    /// The field, such as `sphere[2].radius`, where one is to blame.
+    pub field: Option<String>,
+    /// What is wrong.
+    pub message: String,
+    /// Whether reading the file failed (as opposed to its contents being invalid).
+    pub io: bool,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut sep = "";
+        if let Some(file) = &self.file {
+            write!(f, "{file}")?;
+            sep = ":";
+        }
+        if let Some(line) = self.line {
+            write!(
+                f,
+                "{sep}{}line {line}",
+                if sep.is_empty() { "" } else { " " }
+            )?;
+            sep = ":";
+        }
+        if let Some(field) = &self.field {
+            write!(f, "{sep}{}{field}", if sep.is_empty() { "" } else { " " })?;
+            sep = ":";
+        }
+        write!(
+            f,
+            "{sep}{}{}",
+            if sep.is_empty() { "" } else { " " },
+            self.message
+        )
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// Reads and checks a scene file; the error names the file.
+///
+/// ```
+/// let err = microray::scene_file::load::<4, 1>("no/such/scene.toml").unwrap_err();
+/// assert!(err.io && err.to_string().starts_with("no/such/scene.toml: "));
+/// ```
+pub fn load<const S: usize, const L: usize>(
+    path: impl AsRef<Path>,
+) -> Result<SceneFile<S, L>, SceneError> {
+    let path = path.as_ref();
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        file: Some(name.clone()),
+        line: None,
+        field: None,
+        message: e.to_string(),
+        io: true,
+    })?;
+    parse(&text).map_err(|mut e| {
+        e.file = Some(name);
+        e
+    })
+}
+
+/// Parses and checks scene text.
+///
+/// ```
+/// use microray::scene_file::parse;
+/// let text = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[sphere]]\ncenter = [0, 0, 0]\nradius = -1\n";
+/// assert_eq!(parse::<4, 1>(text).unwrap_err().to_string(),
+///            "line 6: sphere[0].radius: radius must be finite and > 0");
+/// ```
+pub fn parse<const S: usize, const L: usize>(text: &str) -> Result<SceneFile<S, L>, SceneError> {
+    let lines = LineIndex::new(text);
+    let raw: RawFile = toml::from_str(text).map_err(|e| {
+        let line = e.span().map(|s| lines.line(s.start));
+        SceneError {
+            file: None,
+            line,
+            field: line.and_then(|l| lines.key_on(l)),
+            message: e.message().trim().replace('\n', "; "),
+            io: false,
+        }
+    })?;
+    Builder { lines: &lines }.build(raw)
+}
+
+// ---- raw TOML shapes -------------------------------------------------------------------------

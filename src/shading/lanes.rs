@@ -1,0 +1,195 @@
+//! Four neighbouring hits on one sphere shaded at once in vector lanes (`cfg(lanes)`), each lane
+//! the scalar shading's operations in the scalar order.
+
+use super::*;
+
+/// Four hits on one sphere, in vector lanes (`cfg(lanes)`): [`Hit`]'s fields and the view
+/// direction of each, for [`shade_lit4`].
+#[cfg(lanes)]
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Hits4 {
+    pub t: F,
+    pub sphere: usize,
+    pub normal: V,
+    pub offset: V,
+    pub anchor: V,
+    pub rel: V,
+    pub dir: V,
+}
+
+#[cfg(lanes)]
+use crate::simd::{bits, mask, ones, F, V};
+
+#[cfg(lanes)]
+impl Hits4 {
+    /// Lane `l` as a [`Hit`], for the scalar shadow test.
+    #[inline]
+    pub(crate) fn hit(&self, l: usize) -> Hit {
+        Hit {
+            t: self.t.as_array_ref()[l & 3],
+            sphere: self.sphere,
+            normal: self.normal.lane(l),
+            offset: self.offset.lane(l),
+            anchor: self.anchor.lane(l),
+            rel: self.rel.lane(l),
+        }
+    }
+}
+
+/// [`shade_lit`] of four hits on one sphere (one material) at once, in vector lanes: lane `l`
+/// is `shade_lit(scene, &h.hit(l), h.dir.lane(l), …)`, bit for bit. Each step is the scalar
+/// step lane by lane (the same IEEE operations in the same order), a branch a selection
+/// between both arms. Only the lanes in `active` are asked for and checked; the others may
+/// hold any values (another sphere's hits), and their colours mean nothing.
+/// `blocked(i, light, ask, to)` answers for the lanes in `ask` (active ones with `n·l > 0`,
+/// which the scalar loop would ask) which are in shadow. `None` where an active lane leaves
+/// the common case (a light vector whose square leaves the normal range, a specular power
+/// that is not a whole number): the caller shades those pixels with the scalar code.
+#[cfg(lanes)]
+#[inline(always)]
+pub(crate) fn shade_lit4<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    h: &Hits4,
+    active: u32,
+    mut blocked: impl FnMut(usize, &Light, u32, &V) -> u32,
+) -> Option<V> {
+    use wide::{CmpGt, CmpLe};
+    let m = scene.materials().get(h.sphere)?;
+    let lights = scene.lights();
+    let n = h.normal;
+    let mut colour = V::splat(m.diffuse.mul_elem(scene.ambient()));
+    let has_specular = scene.has_specular(h.sphere);
+    let v = if has_specular && !lights.is_empty() {
+        h.dir.normalize_fast().neg()
+    } else {
+        V::splat(Vec3::ZERO)
+    };
+    let (kd, ks) = (V::splat(m.diffuse), V::splat(m.specular));
+    for (i, light) in lights.iter().enumerate() {
+        // `to_light` and `unit_towards`.
+        let (to, l) = match *light {
+            Light::Point { position, .. } => {
+                let to = V::splat(position).sub(h.anchor).sub(h.rel);
+                let ll = to.dot(to);
+                let normal = F::splat(f32::MIN_POSITIVE).cmp_le(ll) & ll.cmp_le(F::splat(f32::MAX));
+                if bits(normal) & active != active {
+                    return None;
+                }
+                (to, to.div(ll.sqrt()))
+            }
+            Light::Directional { direction, .. } => {
+                let to = V::splat(-direction);
+                (to, to)
+            }
+        };
+        let nl = n.dot(l);
+        let facing = nl.cmp_gt(F::ZERO);
+        let ask = bits(facing) & active;
+        if ask == 0 {
+            continue;
+        }
+        let shadowed = blocked(i, light, ask, &to);
+        if ask & !shadowed == 0 {
+            continue;
+        }
+        let lit = if shadowed == 0 {
+            facing
+        } else {
+            facing & !mask(shadowed)
+        };
+        let mut c = kd.mul(nl);
+        if has_specular {
+            let nh = n.dot(v.add(l).normalize_fast());
+            let shine = nh.cmp_gt(F::ZERO) & lit;
+            if bits(shine) != 0 {
+                let p = crate::simd::spec_pow(nh, m.shininess)?;
+                c = V::select(shine, c.add(ks.mul(p)), c);
+            }
+        }
+        colour = V::select(
+            lit,
+            colour.add(V::splat(light.intensity()).mul_elem(c)),
+            colour,
+        );
+    }
+    Some(colour)
+}
+
+/// [`in_shadow_among`] for the lanes `ask` of four hits on one sphere (`to` their
+/// [`to_light`] vectors): the bits of those in shadow. Each candidate is weighed for the four
+/// lanes at once as far as lanes decide it (`fused`'s steps lane by lane, and the point light's
+/// constants through [`Prepared::hit4`]); the lanes that remain get the scalar test of
+/// that sphere, so every answer is the scalar one. Lanes that see their sphere from inside
+/// take the whole scalar test.
+#[cfg(lanes)]
+#[inline(always)]
+pub(crate) fn in_shadow4<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    h: &Hits4,
+    light: &Light,
+    to: &V,
+    ask: u32,
+    light_c: impl Fn(usize) -> Option<f32>,
+    candidates: &[u16],
+) -> u32 {
+    use crate::geometry::leaving_blocks4;
+    use wide::CmpLt;
+    let spheres = scene.spheres();
+    let inside = bits(h.normal.dot(h.offset).cmp_lt(F::ZERO));
+    // The lanes whose shadow ray `shadow_ray` scales up take the scalar test too.
+    let small = match *light {
+        Light::Point { .. } => bits(to.dot(*to).cmp_lt(F::splat(f32::from_bits(SMALL_VV)))),
+        Light::Directional { .. } => 0,
+    };
+    let inside = inside | small;
+    let mut out = 0;
+    for l in ones(ask & inside) {
+        let cands = candidates.iter().map(|&j| j as usize);
+        if in_shadow_among(scene, &h.hit(l), light, to.lane(l), &light_c, cands) {
+            out |= 1 << l;
+        }
+    }
+    let mut open = ask & !inside;
+    // `leaving_blocks` of the lanes in `open`: in lanes, the undecided ones scalar.
+    let leaving = |s: &Sphere, d: &V, tmax: f32, open: u32| {
+        let (mut hit, maybe) = leaving_blocks4(h.anchor, h.rel, s, *d, tmax, open);
+        for l in ones(maybe) {
+            let (anchor, rel) = (h.anchor.lane(l), h.rel.lane(l));
+            if Prepared::leaving_blocks(anchor, rel, s, d.lane(l), tmax) {
+                hit |= 1 << l;
+            }
+        }
+        hit
+    };
+    let d = match *light {
+        Light::Point { .. } => to.neg(),
+        Light::Directional { .. } => *to,
+    };
+    for &j in candidates {
+        if open == 0 {
+            break;
+        }
+        let j = j as usize;
+        let Some(s) = spheres.get(j) else { continue };
+        if j == h.sphere {
+            continue;
+        }
+        let hit = match *light {
+            Light::Point { position, .. } => match light_c(j) {
+                Some(c) if c <= NEAR_LIGHT * (s.radius * s.radius) => {
+                    let k = Prepared {
+                        f: position - s.center,
+                        c,
+                        r: s.radius,
+                    };
+                    k.hit_bits4(&d, T_EPS, T_BELOW_ONE, open)
+                }
+                _ => leaving(s, to, T_BELOW_ONE, open),
+            },
+            Light::Directional { .. } => leaving(s, &d, f32::INFINITY, open),
+        };
+        out |= hit;
+        open &= !hit;
+    }
+    out
+}

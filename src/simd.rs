@@ -1,0 +1,226 @@
+//! The one place that chooses the lane backend: on hosts with f32 vector registers
+//! (`cfg(lanes)`, set by build.rs: x86-64, AArch64 with NEON) four lanes of `wide::f32x4`;
+//! elsewhere none, and the code above runs its scalar path. Every lane operation is the IEEE
+//! operation of its scalar counterpart in the same order (no fused multiply-add), so a lane
+//! computes the scalar bits; [`Ieee`] lets one generic definition serve both.
+
+use core::ops::{Add, Mul, Sub};
+
+/// The IEEE operations of the error-free transformations, on one f32 and (`cfg(lanes)`) on the
+/// four lanes of a vector: both run the one generic definition, the same operations in the same
+/// order, so a lane computes the scalar bits.
+pub(crate) trait Ieee:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self>
+{
+    fn splat(x: f32) -> Self;
+    /// `-x`: the sign flipped.
+    fn flip(self) -> Self;
+}
+
+impl Ieee for f32 {
+    #[inline(always)]
+    fn splat(x: f32) -> f32 {
+        x
+    }
+    #[inline(always)]
+    fn flip(self) -> f32 {
+        -self
+    }
+}
+
+#[cfg(lanes)]
+impl Ieee for lanes::F {
+    #[inline(always)]
+    fn splat(x: f32) -> lanes::F {
+        lanes::F::splat(x)
+    }
+    #[inline(always)]
+    fn flip(self) -> lanes::F {
+        lanes::neg(self)
+    }
+}
+
+#[cfg(lanes)]
+pub(crate) use lanes::*;
+
+/// Four `Vec3`s in vector registers, one lane each (`cfg(lanes)`: hosts with f32 vectors), for
+/// shading four pixels at once. Every operation is the lane-wise IEEE operation of its `Vec3`
+/// counterpart in the same order, so each lane computes the scalar bits.
+#[cfg(lanes)]
+pub(crate) mod lanes {
+    use crate::math::Vec3;
+    pub(crate) use wide::f32x4 as F;
+
+    /// `-x` as `Vec3` negates: the sign flipped (wide's `-` is `0 − x`, which differs at zero).
+    #[inline(always)]
+    pub(crate) fn neg(x: F) -> F {
+        x ^ F::splat(-0.0)
+    }
+
+    /// The lanes of a mask (all bits set or clear per lane) as bits `0..4`.
+    #[inline(always)]
+    pub(crate) fn bits(mask: F) -> u32 {
+        mask.move_mask() as u32
+    }
+
+    /// The indices of the set bits of `bits`, lowest first: the lanes (or span pixels) a mask
+    /// names, for the loops that visit them one by one.
+    #[inline(always)]
+    pub(crate) fn ones(mut bits: u32) -> impl Iterator<Item = usize> {
+        core::iter::from_fn(move || {
+            (bits != 0).then(|| {
+                let l = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                l
+            })
+        })
+    }
+
+    /// A mask from bits `0..4`.
+    #[inline(always)]
+    pub(crate) fn mask(bits: u32) -> F {
+        let b = |l: u32| {
+            if bits & (1 << l) != 0 {
+                f32::from_bits(!0)
+            } else {
+                0.0
+            }
+        };
+        F::from([b(0), b(1), b(2), b(3)])
+    }
+
+    /// Four vectors, lane by lane.
+    #[derive(Debug, Clone, Copy)]
+    pub(crate) struct V {
+        pub x: F,
+        pub y: F,
+        pub z: F,
+    }
+
+    impl V {
+        #[inline(always)]
+        pub(crate) fn splat(v: Vec3) -> V {
+            V {
+                x: F::splat(v.x),
+                y: F::splat(v.y),
+                z: F::splat(v.z),
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn from_lanes(v: [Vec3; 4]) -> V {
+            V {
+                x: F::from(v.map(|v| v.x)),
+                y: F::from(v.map(|v| v.y)),
+                z: F::from(v.map(|v| v.z)),
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn lane(&self, l: usize) -> Vec3 {
+            let (x, y, z) = (
+                self.x.as_array_ref(),
+                self.y.as_array_ref(),
+                self.z.as_array_ref(),
+            );
+            Vec3::new(x[l & 3], y[l & 3], z[l & 3])
+        }
+        /// `Vec3::dot`'s association: `(x·x' + y·y') + z·z'`.
+        #[inline(always)]
+        pub(crate) fn dot(self, o: V) -> F {
+            self.x * o.x + self.y * o.y + self.z * o.z
+        }
+        #[inline(always)]
+        pub(crate) fn add(self, o: V) -> V {
+            V {
+                x: self.x + o.x,
+                y: self.y + o.y,
+                z: self.z + o.z,
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn sub(self, o: V) -> V {
+            V {
+                x: self.x - o.x,
+                y: self.y - o.y,
+                z: self.z - o.z,
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn neg(self) -> V {
+            V {
+                x: neg(self.x),
+                y: neg(self.y),
+                z: neg(self.z),
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn mul(self, s: F) -> V {
+            V {
+                x: self.x * s,
+                y: self.y * s,
+                z: self.z * s,
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn div(self, s: F) -> V {
+            V {
+                x: self.x / s,
+                y: self.y / s,
+                z: self.z / s,
+            }
+        }
+        #[inline(always)]
+        pub(crate) fn mul_elem(self, o: V) -> V {
+            V {
+                x: self.x * o.x,
+                y: self.y * o.y,
+                z: self.z * o.z,
+            }
+        }
+        /// `Vec3::cross`'s formula.
+        #[inline(always)]
+        pub(crate) fn cross(self, o: V) -> V {
+            V {
+                x: self.y * o.z - self.z * o.y,
+                y: self.z * o.x - self.x * o.z,
+                z: self.x * o.y - self.y * o.x,
+            }
+        }
+        /// All three coordinates finite, as bits `0..4`.
+        #[inline(always)]
+        pub(crate) fn finite(self) -> u32 {
+            use wide::CmpLe;
+            let max = F::splat(f32::MAX);
+            let ok = self.x.abs().cmp_le(max) & self.y.abs().cmp_le(max) & self.z.abs().cmp_le(max);
+            bits(ok)
+        }
+        /// `Vec3::normalize_fast`: each coordinate divided by the length.
+        #[inline(always)]
+        pub(crate) fn normalize_fast(self) -> V {
+            self.div(self.dot(self).sqrt())
+        }
+        /// `a` in the lanes of `mask`, else `b`.
+        #[inline(always)]
+        pub(crate) fn select(mask: F, a: V, b: V) -> V {
+            V {
+                x: mask.blend(a.x, b.x),
+                y: mask.blend(a.y, b.y),
+                z: mask.blend(a.z, b.z),
+            }
+        }
+    }
+
+    /// [`spec_pow`](crate::math::spec_pow) of each lane of `x` to one exponent `s`: the same
+    /// multiplications in the same order; `None` where `spec_pow` calls `powf` (an `s` that is
+    /// not a whole number up to 2¹⁶).
+    #[inline(always)]
+    pub(crate) fn spec_pow(x: F, s: f32) -> Option<F> {
+        let n = s as u32;
+        if n as f32 != s || n > 1 << 16 {
+            return None;
+        }
+        if n == 0 {
+            return Some(F::ONE);
+        }
+        Some(crate::math::pow_by_squaring(x, n))
+    }
+}
