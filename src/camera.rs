@@ -159,8 +159,8 @@ impl Camera {
     }
 
     /// What [`Camera::direction`] at `y` shares across `x`: for loops along a row, which keep
-    /// these four values in registers (read through `&self`, the camera's fields were loaded
-    /// again for every column: the compiler could not tell that the row's stores leave them).
+    /// these four values in registers (read through `&self`, the camera's fields would be loaded
+    /// again for every column: the compiler cannot tell that the row's stores leave them).
     #[inline]
     pub(crate) fn row(&self, y: f32) -> RowRays {
         let py = self.oy - y * self.sy;
@@ -219,7 +219,7 @@ impl Camera {
     }
 
     /// The ray for sample `(sx, sy)` of an `samples`×`samples` grid in pixel `(i, j)`: the
-    /// lecture's view ray, at `x = i + (sx + 0.5)/samples`, `y = j + (sy + 0.5)/samples`.
+    /// textbook view ray, at `x = i + (sx + 0.5)/samples`, `y = j + (sy + 0.5)/samples`.
     ///
     /// ```
     /// # use microray::{Camera, Vec3};

@@ -7,9 +7,9 @@ use super::*;
 /// than √3 radii from the centre (or inside, less than 1/√3). The f32 error of c is about
 /// 2⁻²⁴ (ff + rr) from the squares plus as much again from rounding `f`, and the near root
 /// `c/q` (used within ~2 radii, see `near_root`; farther it does not depend on c) is
-/// proportional to c, so `(ff + rr) / |c| ≤ 2` keeps that root within a few ulp. An earlier
-/// threshold of 2⁻¹¹ let c lose 10 bits, and a mirror ray leaving a sphere that rests on a
-/// ground sphere of radius 1000 met the ground 700 ulp off, enough to flip its shadow.
+/// proportional to c, so `(ff + rr) / |c| ≤ 2` keeps that root within a few ulp. A threshold
+/// of 2⁻¹¹ would let c lose 10 bits, and a mirror ray leaving a sphere that rests on a ground
+/// sphere of radius 1000 would meet the ground 700 ulp off, enough to flip its shadow.
 pub(super) const CANCEL: f32 = 0.5;
 
 /// `c = |f|² − r²` for the origin `base + offset` (`offset` zero for a plain origin) where its
@@ -21,8 +21,8 @@ pub(super) const CANCEL: f32 = 0.5;
 /// agree in 20 bits (the eye 1 above a ground of radius 10⁶). Where `|base − m|` is much more
 /// than `|f|` (a base far away for the sphere's size), `l`'s error grows with their ratio.
 ///
-/// f32 rather than f64, which is software on every Cortex-M (~1 000 instructions here against
-/// ~130), and plain f32 operations on every target, so every target computes the same bits.
+/// f32 rather than f64, which is software on every Cortex-M, and plain f32 operations on every
+/// target, so every target computes the same bits.
 /// Where the squares overflow (|f| or r from ~1.8·10¹⁹) the result is not finite.
 #[inline(always)]
 pub(super) fn c_near(base: Vec3, offset: Vec3, sphere: &Sphere) -> f32 {
@@ -40,13 +40,13 @@ pub(super) fn c_origin(origin: Vec3, sphere: &Sphere) -> f32 {
 }
 
 /// [`c_near`] on the coordinates of base, offset and centre. Out of line: the rare call costs
-/// less than its ~120 operations inlined into every ray loop (on x86-64, 7% of the renderer's
-/// time), and on Arm s16–s31 keep the caller's values across it. Scalars, not `Vec3`s (nor an
-/// array): an aggregate goes to a call by address, and callers then kept it in memory for
-/// every test, not only for the few that call this.
+/// less than its long body inlined into every ray loop, and on Arm s16–s31 keep the caller's
+/// values across it. Scalars, not `Vec3`s (nor an array): an aggregate goes to a call by
+/// address, and callers would then keep it in memory for every test, not only for the few that
+/// call this.
 ///
 /// `OFFSET` false: for a plain origin (`offset` zero), where the sum with the offset is exact and
-/// is left out (the same bits, ~15% fewer operations; `ray_intersect`, [`Prepared::new`]).
+/// is left out (the same bits, fewer operations; for `ray_intersect` and [`Prepared::new`]).
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn c_near_xyz<const OFFSET: bool>(
@@ -70,8 +70,8 @@ pub(super) fn c_near_xyz<const OFFSET: bool>(
 /// [`c_near_of`] for one origin with the coordinates in vector lanes (hosts, `cfg(lanes)`): the
 /// per-coordinate pieces (the sums' errors, the squares and their errors) in lanes 0–2 and the
 /// radius's square in lane 3, then the running sum over the coordinates in `c_near_of`'s order.
-/// The same operations on the same values, so the same bits, in 93 x86-64 instructions instead
-/// of 162 (91 instead of 133 without an offset).
+/// The same operations on the same values, so the same bits, in fewer instructions than the
+/// scalar sequence.
 #[cfg(lanes)]
 #[inline(always)]
 pub(super) fn c_near_across<const OFFSET: bool>(

@@ -131,8 +131,8 @@ pub(super) fn hit_point_far(
 /// [`hit_point_far`] of four rays from one origin (`f` their common `o − m`, as for primary
 /// rays) with directions `d` and parameters `t`: its operations lane by lane, so each lane is
 /// the scalar `Some((point, offset))`, bit for bit; `None` where a lane is not finite (the
-/// scalar call then falls back for it). On hosts, where many small far spheres make this path
-/// warm (~70 x86 instructions a pixel at 256 spheres when it was scalar).
+/// scalar call then falls back for it). For hosts, where many small far spheres make this path
+/// warm.
 #[cfg(lanes)]
 #[inline(always)]
 pub(crate) fn hit_point_far4(

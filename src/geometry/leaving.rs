@@ -9,8 +9,8 @@ impl Prepared {
     /// `f` it used: for the shadow and mirror rays of a hit, which leave from
     /// `anchor + rel` (see [`Hit::anchor`](crate::Hit::anchor)). Cheaper, because a sphere
     /// certainly behind the ray (origin outside by more than the f32 error of `c`, `f·d ≥ 0`,
-    /// `tmin ≥ 0`) is rejected before `c` is finished. That spares the compensated `c` (~100
-    /// instructions) for, say, the ground under a ball when the shadow ray goes up.
+    /// `tmin ≥ 0`) is rejected before `c` is finished. That spares the compensated `c`, the costly
+    /// part, for, say, the ground under a ball when the shadow ray goes up.
     ///
     /// ```
     /// # use microray::{Prepared, Sphere, Vec3};
@@ -96,7 +96,7 @@ impl Prepared {
         // whatever the rounding. Most tests are such misses, decided before the compensated c,
         // as are spheres certainly behind. (A margin scaled by |c| instead, as `hit_ab`'s with
         // an accurate c, is too small where c cancels: rays from 1 above a ground of radius 10⁶
-        // that meet it 1 400 away missed.) Written `ac − 2⁻¹⁶ a (ff + rr) > b²`, where a or ff
+        // that meet it 1 400 away would miss.) Written `ac − 2⁻¹⁶ a (ff + rr) > b²`, where a or ff
         // overflows is ∞ − ∞ = NaN, never a miss; `a (c − 2⁻¹⁶ (ff + rr))` would reject those
         // (`leaving_overflow_is_no_clear_miss`).
         let sum = ff + rr;

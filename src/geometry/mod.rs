@@ -130,7 +130,7 @@ impl Sphere {
 
 /// The closest root of the ray–sphere equation inside `[tmin, tmax]`, or `None`.
 ///
-/// This is the lecture's `ray_intersect(ray, sphere, tmin, tmax)`, written to stay accurate in
+/// The textbook quadratic's `ray_intersect(ray, sphere, tmin, tmax)`, written to stay accurate in
 /// f32 for tiny, far and huge spheres (see the module documentation). A NaN or infinite input
 /// never yields a hit.
 ///

@@ -150,7 +150,7 @@ impl Prepared {
     /// `[tmin, tmax]`, as bits: `hit4`'s answers without their roots, for shadow rays from a
     /// point light (its per-frame constants): the lanes' test where it decides, the scalar one
     /// where it does not, so the same answers. Without the arrays of `Vec3` and `Option` that
-    /// `hit4` goes through, which were 6% of a shadowed scene's time.
+    /// `hit4` goes through, which the shadow loop would build for every candidate sphere.
     #[cfg(lanes)]
     #[inline(always)]
     pub(crate) fn hit_bits4(&self, d: &crate::simd::V, tmin: f32, tmax: f32, ask: u32) -> u32 {
@@ -237,8 +237,8 @@ pub(super) fn hit_ab_xyz(
     tmax: f32,
 ) -> Option<f32> {
     let (f, d) = (Vec3::new(fx, fy, fz), Vec3::new(dx, dy, dz));
-    // The same roots as `roots`, with the early exits that make it cost about what the
-    // lecture's formula costs: most tests are misses.
+    // The same roots as `roots`, with early exits that bring its cost near the textbook
+    // quadratic's: most tests are misses.
     // b² − ac is off by a few ε (b² + a|c|) (its rounding, and that of b and c); a value
     // below −2⁻¹⁸ of that misses the sphere's whole line whatever the rounding. Most tests
     // are such misses: one branch first, and no Hearn–Baker divide for them. The margin is
@@ -289,8 +289,7 @@ pub(super) fn hit_ab_xyz(
 /// `q`'s sign (b < 0 once the behind test has passed: b ≥ 0 left, and a NaN b makes disc NaN,
 /// which the range check hands to the general test with any other overflow), `q = 0`
 /// (q ≥ −b > 0), and `near_root`'s `c > 0 && b < 0`. A copy rather than a
-/// const parameter of `hit_ab_xyz`: made generic, the general test's Cortex-M code grew by 4–5
-/// instructions a test (numbench) and the host's renderer by 3.4 a pixel.
+/// const parameter of `hit_ab_xyz`, which made generic compiles to a longer general test.
 /// `hit_outside_is_hit` pins the two together, bit for bit.
 #[cfg(any(test, not(lanes)))]
 #[inline(always)]
@@ -326,9 +325,9 @@ pub(super) fn hit_outside_xyz(
         let l = f - d * (b / a);
         a * (rr - l.dot(l))
     };
-    // `0 ≤ disc ≤ f32::MAX` as a bit test (M4F: for two float comparisons, as `vsqrt` takes
-    // the bits in a core register); −0, which the float test lets through, takes the general
-    // test with the negatives, NaN and ∞.
+    // `0 ≤ disc ≤ f32::MAX` as a bit test (on a Cortex-M4F cheaper than two float
+    // comparisons, as `vsqrt` takes the bits in a core register); −0, which the float test
+    // lets through, takes the general test with the negatives, NaN and ∞.
     if !crate::math::plus_finite(disc) {
         if disc < 0.0 && finite(disc) {
             return None;
@@ -339,8 +338,7 @@ pub(super) fn hit_outside_xyz(
     let s = sqrt(disc);
     let q = s - b;
     let t0 = if s < -0.5 * b { (-b - s) / a } else { c / q };
-    // `tmax` is finite: no test of t0 against infinity (a `tmax` of ∞ made the M4F code test
-    // t0's exponent range, 13 instructions a test).
+    // `tmax` is finite, so `t0 ≤ tmax` also rules out t0 = ∞: no test against infinity.
     if t0 >= tmin && t0 <= tmax {
         return Some(t0);
     }

@@ -84,9 +84,8 @@ pub(super) fn select((near, far): (f32, f32), tmin: f32, tmax: f32) -> Option<f3
 /// on a Cortex-M). `None` for non-finite inputs or a zero `d`.
 ///
 /// Scalar arguments, not `Vec3`s: an aggregate goes to a call by address, and for that the hot
-/// paths that call this (inlined in ray loops) kept `f` and `d` in memory, storing and reloading
-/// them in every test (on x86 a store-forwarding stall each; `ray_intersect` cost 3.2× the
-/// lecture's formula per test instead of 1.5×).
+/// paths that call this (inlined in ray loops) would keep `f` and `d` in memory, storing and
+/// reloading them in every test (on x86 a store-forwarding stall each).
 #[cold]
 #[inline(never)]
 pub(super) fn roots_scaled(

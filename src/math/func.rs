@@ -24,7 +24,7 @@ pub fn sqrt(x: f32) -> f32 {
 #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
 #[allow(unsafe_code)]
 pub(super) mod hw {
-    /// `vsqrt.f32`: libm's `sqrtf` is a ~200-instruction software routine on thumbv7em.
+    /// `vsqrt.f32`: libm's `sqrtf` is a long software routine on thumbv7em.
     ///
     /// Rust exposes no `vfp2` target feature on thumbv7em-none-eabihf (its FPU is
     /// single-precision only), so S registers cannot be asm operands: the value travels through
@@ -63,10 +63,10 @@ pub fn powf(base: f32, exp: f32) -> f32 {
 /// `x^s` for the Blinn–Phong highlight (`0 ≤ x ≤ 1`, `s > 0`): repeated squaring when `s` is a
 /// whole number up to 2¹⁶, `libm::powf` otherwise.
 ///
-/// `powf` is a ~250-instruction routine and the highlight is evaluated per light and hit; the
-/// shininess of real scenes is a whole number, where at most 2·16 multiplications do. Each
-/// multiplication rounds once, so the result is within ~2 log₂(s) ulp of `x^s`: at s = 5000
-/// under 0.011 of an 8-bit level (see docs/numerics.md), far below what the image resolves.
+/// `powf` is a long routine and the highlight is evaluated per light and hit; the shininess of
+/// real scenes is a whole number, where at most 2·16 multiplications do. Each multiplication
+/// rounds once, so the result is within ~2 log₂(s) ulp of `x^s`: at s = 5000 under 0.011 of an
+/// 8-bit level (see docs/numerics.md), far below what the image resolves.
 ///
 /// ```
 /// use microray::math::spec_pow;

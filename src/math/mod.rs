@@ -69,8 +69,8 @@ impl Vec3 {
     }
 
     /// Whether all three components are zero (of either sign): `self == Vec3::ZERO`, NaN
-    /// included (never zero), as integer tests on the bits, which cost a third of three float
-    /// comparisons on a Cortex-M4F. The shading asks it of every hit's material.
+    /// included (never zero), as integer tests on the bits, which on a Cortex-M4F are cheaper
+    /// than three float comparisons. The shading asks it of every hit's material.
     ///
     /// ```
     /// # use microray::Vec3;

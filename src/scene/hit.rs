@@ -90,9 +90,8 @@ pub(crate) fn make_hit(
 /// [`make_hit`] on scalars. On Arm out of line: one copy for the renderer's and the shading's
 /// callers, which small flash prefers; scalars rather than a `Ray` and `Vec3`s, which would go
 /// by address (on a Cortex-M4F its 14 floats travel in s0–s13). Inlined elsewhere: x86-64
-/// passes only 8 floats in registers, the rest through the stack (x86 instructions a pixel of
-/// the target scene 734 out of line, 717 inlined). The ray's origin is not needed: the offset
-/// is computed from `f`.
+/// passes only 8 floats in registers, the rest through the stack. The ray's origin is not
+/// needed: the offset is computed from `f`.
 #[cfg_attr(target_arch = "arm", inline(never))]
 #[cfg_attr(not(target_arch = "arm"), inline)]
 #[allow(clippy::too_many_arguments)]
@@ -121,9 +120,8 @@ pub(super) fn make_hit_xyz(
 
 /// [`make_hit_xyz`]'s body, for the renderer's scalar primary hits, which build their record
 /// where they shade it (`Frame::shade_stored`). A function of its own, not an inlining
-/// attribute of `make_hit_xyz`'s: inlined at all its call sites in Arm's speed builds, that
-/// cost the M0 +2.3% instructions a pixel (+0.9% with the M0 left out of line), the M4F
-/// nothing.
+/// attribute of `make_hit_xyz`'s, so that only this caller inlines the body: inlined at every
+/// call site, it slows the Cortex-M0 speed build.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn make_hit_inline(

@@ -342,7 +342,7 @@ impl<const S: usize, const L: usize> Scene<S, L> {
         self.max_depth
     }
 
-    /// The closest hit over all spheres with `t` in `[tmin, tmax]` (the lecture's
+    /// The closest hit over all spheres with `t` in `[tmin, tmax]` (the textbook
     /// `find_intersection`).
     ///
     /// ```

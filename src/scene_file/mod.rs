@@ -192,5 +192,3 @@ pub fn parse<const S: usize, const L: usize>(text: &str) -> Result<SceneFile<S, 
     })?;
     Builder { lines: &lines }.build(raw)
 }
-
-// ---- raw TOML shapes -------------------------------------------------------------------------

@@ -113,5 +113,3 @@ impl<'de> Deserialize<'de> for Rgb {
         d.deserialize_any(V)
     }
 }
-
-// ---- checking and building -------------------------------------------------------------------

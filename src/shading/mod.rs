@@ -101,8 +101,8 @@ pub(crate) fn shade_lit_inline<const S: usize, const L: usize>(
     colour
 }
 
-/// The lecture's shading of a hit: the local colour with shadows tested against the scene (when
-/// the scene has them on). Mirrors are followed by [`trace`].
+/// The shading of a hit: the local colour with shadows tested against the scene (when the scene
+/// has them on). Mirrors are followed by [`trace`].
 ///
 /// ```
 /// use microray::{shade, Color, Material, Ray, Scene, Sphere, Vec3};

@@ -29,11 +29,12 @@ pub(super) const SMALL_VV: u32 = (127 - 40) << 23;
 /// and the largest t below 1, all three scaled by 2⁶⁴ (t by 2⁻⁶⁴) when `|v|² < 2⁻⁴⁰`. `v` is
 /// as small as the scene, and the tests multiply `|v|²` by squares of distances (`a c`,
 /// `a (|f|² + r²)`), which underflow from a scene of ~10⁻¹¹ (their margins from ~10⁻⁸):
-/// shadows came out wrong in ~5% of the pixels of a scene scaled by 2⁻⁴⁰. Every step of the
-/// tests scales exactly with `v`, and t with its inverse, so a scaled ray gets the answer the
-/// unscaled one gets wherever nothing underflows (`scaled_by_powers_of_two_is_bit_identical`,
-/// 2⁻⁶⁰ … 2⁶⁰). One fixed factor rather than one fitted to `v`: fewer instructions in the
-/// firmware's flash, and 2⁶⁴ serves scenes from 2⁻²⁰ down to where `c` itself underflows.
+/// without this scaling, ~5% of the pixels of a scene shrunk by 2⁻⁴⁰ get their shadows wrong.
+/// Every step of the tests scales exactly with `v`, and t with its inverse, so a scaled ray gets
+/// the answer the unscaled one gets wherever nothing underflows
+/// (`scaled_by_powers_of_two_is_bit_identical`, 2⁻⁶⁰ … 2⁶⁰). One fixed factor rather than one
+/// fitted to `v`: fewer instructions in the firmware's flash, and 2⁶⁴ serves scenes from 2⁻²⁰
+/// down to where `c` itself underflows.
 #[inline(always)]
 pub(super) fn shadow_ray(v: Vec3) -> (Vec3, f32, f32) {
     let vv = v.dot(v);
@@ -55,8 +56,8 @@ pub(super) fn unit_towards(light: &Light, v: Vec3) -> Vec3 {
         Light::Point { .. } => {
             let ll = v.dot(v);
             // |v|² overflows beyond ~10¹⁹ and underflows below ~10⁻¹⁹: then the guarded form
-            // (and no light at all from a light exactly at p). A bit test (M4F: 3 instructions
-            // fewer than the float comparisons, as `vsqrt` takes the bits in a core register).
+            // (and no light at all from a light exactly at p). A bit test: on a Cortex-M4F
+            // cheaper than the float comparisons, as `vsqrt` takes the bits in a core register.
             if crate::math::positive_normal(ll) {
                 v / crate::math::sqrt(ll)
             } else {
