@@ -17,7 +17,9 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use embedded_graphics::pixelcolor::Rgb888;
 use microray::scene_file::{self, Desktop};
-use microray::{Camera, Color, Frame, Light, Material, RenderOptions, Scene, Sphere, Vec3};
+use microray::{
+    Camera, Color, Frame, FrameStorage, Light, Material, RenderOptions, Scene, Sphere, Vec3,
+};
 
 /// Capacity: 1024 spheres and the wall.
 type BenchScene = Scene<1025, 4>;
@@ -120,7 +122,8 @@ fn spheres(c: &mut Criterion) {
         for (clustered, lname) in [(false, "spread"), (true, "clustered")] {
             for n in [1usize, 16, 256, 1024] {
                 let s = scene(kind, clustered, n);
-                let frame = Box::new(Frame::new(&*s, &cam, RenderOptions::default()).unwrap());
+                let mut storage = Box::new(FrameStorage::new());
+                let frame = Frame::new(&*s, &cam, RenderOptions::default(), &mut storage).unwrap();
                 g.bench_with_input(BenchmarkId::new(lname, n), &n, |b, _| {
                     b.iter(|| render(&frame, &mut buf))
                 });
@@ -144,7 +147,8 @@ fn pixels(c: &mut Criterion) {
         (1920, 1080),
     ] {
         let cam = camera(w, h);
-        let frame = Box::new(Frame::new(&*s, &cam, RenderOptions::default()).unwrap());
+        let mut storage = Box::new(FrameStorage::new());
+        let frame = Frame::new(&*s, &cam, RenderOptions::default(), &mut storage).unwrap();
         let mut buf = vec![Rgb888::new(0, 0, 0); (w * h) as usize];
         g.bench_function(format!("{w}x{h}"), |b| b.iter(|| render(&frame, &mut buf)));
     }
@@ -154,7 +158,8 @@ fn pixels(c: &mut Criterion) {
 fn target(c: &mut Criterion) {
     let file: Box<Desktop> =
         Box::new(scene_file::parse(include_str!("../bench/scenes/target.toml")).unwrap());
-    let frame = Box::new(Frame::new(&file.scene, &file.camera, file.options).unwrap());
+    let mut storage = Box::new(FrameStorage::new());
+    let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage).unwrap();
     let (w, h) = (file.camera.width() as usize, file.camera.height() as usize);
     let mut buf = vec![Rgb888::new(0, 0, 0); w * h];
     let mut g = c.benchmark_group("target");

@@ -23,7 +23,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut scene = scene::BenchScene::new();
     scene::build_scene(&mut scene)?;
     let camera = scene::camera()?;
-    let frame = Frame::new(&scene, &camera, scene::options())?;
+    let mut storage = microray::FrameStorage::new();
+    let frame = Frame::new(&scene, &camera, scene::options(), &mut storage)?;
     let (w, h) = (frame.width(), frame.height());
 
     let plain = |i, j| Rgb888::from(Rgb565::from(frame.pixel(i, j)));

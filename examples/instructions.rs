@@ -26,7 +26,9 @@ fn main() -> Result<(), String> {
         .camera(file.width, file.height)
         .map_err(|e| e.to_string())?;
     let options = RenderOptions { ..file.options };
-    let frame = Box::new(Frame::new(&file.scene, &camera, options).map_err(|e| e.to_string())?);
+    let mut storage = Box::new(microray::FrameStorage::new());
+    let frame =
+        Frame::new(&file.scene, &camera, options, &mut storage).map_err(|e| e.to_string())?;
     let mut pixels = vec![Rgb888::BLACK; file.width as usize * file.height as usize];
     render_once(&frame, &mut pixels).map_err(|e| e.to_string())?;
     let mut hash: u64 = 0xcbf2_9ce4_8422_2325;

@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use microray::scene_file::{self, Desktop};
-use microray::{Frame, RenderOptions};
+use microray::{Frame, FrameStorage, RenderOptions};
 
 const DEMO: &str = include_str!("scenes/demo.toml");
 
@@ -163,39 +163,36 @@ fn render(
             }
         });
         if threads == 1 {
-            warm_stack();
+            // The per-frame tables on the heap, allocated before the clock.
+            let mut storage = Box::new(FrameStorage::new());
             let start = Instant::now();
-            // On the stack and borrowed where it lies: `Box::new` or moving it out of the
-            // `Result` copies the whole frame, its capacity included.
-            let made = Frame::new(scene, camera, options);
+            let made = Frame::new(scene, camera, options, &mut storage);
             made.as_ref().map(work).map_err(|&e| failed(e))?;
             return Ok((start.elapsed().as_secs_f64() * 1e3, None));
         }
         let pool = Instant::now();
         let mut spawned = Vec::with_capacity(workers);
         for _ in 0..workers {
-            let worker = std::thread::Builder::new()
-                .stack_size(WARM + (1 << 20))
-                .spawn_scoped(s, || {
-                    warm_stack();
-                    ready.fetch_add(1, Ordering::Release);
-                    loop {
-                        match state.load(Ordering::Acquire) {
-                            WAIT => std::thread::yield_now(),
-                            GO => break,
-                            _ => return Ok(()),
-                        }
+            let worker = std::thread::Builder::new().spawn_scoped(s, || {
+                let mut storage = Box::new(FrameStorage::new());
+                ready.fetch_add(1, Ordering::Release);
+                loop {
+                    match state.load(Ordering::Acquire) {
+                        WAIT => std::thread::yield_now(),
+                        GO => break,
+                        _ => return Ok(()),
                     }
-                    // Counted as finished however it ends, a panic included, so that the
-                    // waiting thread always wakes (and `join` then passes the panic on).
-                    let _finished = Finally(|| {
-                        if left.fetch_sub(1, Ordering::Release) == 1 {
-                            waiter.unpark();
-                        }
-                    });
-                    let made = Frame::new(scene, camera, options);
-                    made.as_ref().map(work).map_err(|&e| e)
+                }
+                // Counted as finished however it ends, a panic included, so that the
+                // waiting thread always wakes (and `join` then passes the panic on).
+                let _finished = Finally(|| {
+                    if left.fetch_sub(1, Ordering::Release) == 1 {
+                        waiter.unpark();
+                    }
                 });
+                let made = Frame::new(scene, camera, options, &mut storage);
+                made.as_ref().map(work).map_err(|&e| e)
+            });
             match worker {
                 Ok(worker) => spawned.push(worker),
                 Err(e) => {
@@ -232,19 +229,6 @@ impl<F: FnMut()> Drop for Finally<F> {
     fn drop(&mut self) {
         (self.0)();
     }
-}
-
-/// The stack `Frame::new` uses here: the frame and the temporary it is built in.
-const WARM: usize = 2 * std::mem::size_of::<DeskFrame<'static>>() + (64 << 10);
-
-/// Writes the next `WARM` bytes of this thread's stack before the clock starts, as the image
-/// buffer is written: the kernel maps a stack page at its first touch (~2 µs a page here), and
-/// `Frame::new` at this capacity touches ~140 fresh pages (0.2–0.3 ms, more than building the
-/// frame), a cost that a renderer pays at its first frame only.
-#[inline(never)]
-fn warm_stack() {
-    let mut stack = [0u8; WARM];
-    std::hint::black_box(&mut stack);
 }
 
 const WAIT: u8 = 0;

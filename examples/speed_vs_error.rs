@@ -1198,7 +1198,8 @@ fn main() {
     for name in &names {
         let file: Box<Desktop> =
             Box::new(scene_file::load(format!("tests/hard/{name}.toml")).unwrap());
-        let frame = Box::new(Frame::new(&file.scene, &file.camera, file.options).unwrap());
+        let mut storage = Box::new(microray::FrameStorage::new());
+        let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage).unwrap();
         let reference = common::reference::Reference::new(&file);
         let (w, h) = (file.camera.width(), file.camera.height());
         let mut buf = vec![embedded_graphics::pixelcolor::Rgb888::new(0, 0, 0); (w * h) as usize];

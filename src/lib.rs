@@ -13,7 +13,7 @@
 //!
 //! ```
 //! use embedded_graphics::pixelcolor::Rgb888;
-//! use microray::{Camera, Color, Frame, Light, Material, RenderOptions, Scene, Sphere, Vec3};
+//! use microray::{Camera, Color, Frame, FrameStorage, Light, Material, RenderOptions, Scene, Sphere, Vec3};
 //!
 //! // Capacities are the caller's choice: here 4 spheres and 2 lights, no heap.
 //! let mut scene: Scene<4, 2> = Scene::new();
@@ -26,7 +26,8 @@
 //! scene.add_light(Light::Point { position: Vec3::new(3.0, 5.0, 4.0), intensity: Color::splat(0.8) })?;
 //!
 //! let camera = Camera::new(Vec3::new(0.0, 1.0, 6.0), Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.0, 1.0, 0.0), 45.0, 64, 48)?;
-//! let frame = Frame::new(&scene, &camera, RenderOptions::default())?;
+//! let mut storage = FrameStorage::new(); // the per-frame tables, small at this capacity
+//! let frame = Frame::new(&scene, &camera, RenderOptions::default(), &mut storage)?;
 //! let mut row = [Rgb888::new(0, 0, 0); 64]; // one row at a time: no framebuffer needed
 //! for j in 0..48 {
 //!     frame.render_rows(j, &mut row)?;
@@ -59,7 +60,7 @@ pub use camera::Camera;
 pub use error::Error;
 pub use geometry::{ray_intersect, Prepared, Ray, Sphere};
 pub use math::{Color, Vec3};
-pub use render::{Encoding, Frame, RenderOptions};
+pub use render::{Encoding, Frame, FrameStorage, RenderOptions};
 pub use scene::{Hit, Light, Material, Scene};
 pub use shading::{shade, trace};
 

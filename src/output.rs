@@ -48,7 +48,7 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
     /// Draws the frame onto an embedded-graphics display (or any [`DrawTarget`]) whose colour
     /// converts from [`Rgb888`], such as an `Rgb565` panel. Each row is traced as the display
     /// consumes it through `fill_contiguous`, rows from the top: no frame or row buffer is
-    /// needed. (On hosts [`Frame::render_rows`] is ~1.25× faster: it shares each span's shadow
+    /// needed. (On hosts [`Frame::render_rows`] is faster: it shares each span's shadow
     /// lists between 8 rows, which a row-by-row stream cannot.)
     ///
     /// ```
@@ -58,7 +58,8 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
     /// let mut scene: Scene<1, 0> = Scene::new();
     /// scene.set_background(Color::new(0.0, 0.0, 1.0))?;
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// let mut display: MockDisplay<Rgb565> = MockDisplay::new();
     /// frame.draw(&mut display).unwrap();
     /// assert_eq!(display.get_pixel(embedded_graphics::prelude::Point::new(7, 7)), Some(Rgb565::new(0, 0, 31)));
@@ -90,7 +91,8 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
     /// let mut scene: Scene<1, 0> = Scene::new();
     /// scene.set_background(Color::new(0.4, 0.4, 0.4))?;
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 4)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// let mut row = [Rgb565::new(0, 0, 0); 8];
     /// frame.render_rows_dithered(2, &mut row)?;
     /// assert_eq!(row[5], dither_rgb565(frame.pixel(5, 2), 5, 2));
@@ -136,7 +138,8 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
     /// let mut scene: Scene<1, 0> = Scene::new();
     /// scene.set_background(Color::new(0.0, 0.3, 0.7))?;
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// let mut display: MockDisplay<Rgb565> = MockDisplay::new();
     /// frame.draw_dithered(&mut display).unwrap();
     /// assert_eq!(display.get_pixel(Point::new(6, 3)), Some(dither_rgb565(frame.pixel(6, 3), 6, 3)));

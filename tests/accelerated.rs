@@ -33,7 +33,8 @@ use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
 use microray::output::dither_rgb565;
 use microray::scene_file::{self, Desktop};
 use microray::{
-    Camera, Color, Frame, Light, Material, Prepared, Ray, RenderOptions, Scene, Sphere, Vec3,
+    Camera, Color, Frame, FrameStorage, Light, Material, Prepared, Ray, RenderOptions, Scene,
+    Sphere, Vec3,
 };
 
 /// Renders with both paths and reports the first differing pixel.
@@ -42,7 +43,8 @@ fn same<const S: usize, const L: usize>(
     camera: &Camera,
     options: RenderOptions,
 ) {
-    let frame = Frame::new(scene, camera, options).unwrap();
+    let mut storage = Box::new(FrameStorage::new());
+    let frame = Frame::new(scene, camera, options, &mut storage).unwrap();
     let (w, h) = (camera.width() as usize, camera.height() as usize);
     let mut fast = vec![Rgb888::new(0, 0, 0); w * h];
     let mut brute = fast.clone();
@@ -238,7 +240,8 @@ fn bands_of_any_height_render_the_whole_frame() {
     let camera = file.view.camera(160, 120).unwrap();
     scenes.push((file, camera));
     for (file, camera) in &scenes {
-        let frame = Frame::new(&file.scene, camera, file.options).unwrap();
+        let mut storage = Box::new(FrameStorage::new());
+        let frame = Frame::new(&file.scene, camera, file.options, &mut storage).unwrap();
         let (w, h) = (camera.width() as usize, camera.height() as usize);
         let mut whole = vec![Rgb888::new(0, 0, 0); w * h];
         frame.render(&mut whole).unwrap();
@@ -302,9 +305,10 @@ fn a_different_scene_is_detected() {
         .add_sphere(Sphere::new(Vec3::ZERO, 1.05), Material::default())
         .unwrap();
     let options = RenderOptions::default();
+    let (mut sa, mut sb) = (FrameStorage::new(), FrameStorage::new());
     let (a, b) = (
-        Frame::new(&scene, &camera, options).unwrap(),
-        Frame::new(&other, &camera, options).unwrap(),
+        Frame::new(&scene, &camera, options, &mut sa).unwrap(),
+        Frame::new(&other, &camera, options, &mut sb).unwrap(),
     );
     let (mut x, mut y) = (
         vec![Rgb888::new(0, 0, 0); 32 * 32],
@@ -391,7 +395,8 @@ fn screen_boxes_hold_every_hit() {
                 .add_sphere(Sphere::new(c, r), Material::default())
                 .unwrap();
         }
-        let frame = Frame::new(&*scene, &camera, RenderOptions::default()).unwrap();
+        let mut storage = Box::new(FrameStorage::new());
+        let frame = Frame::new(&*scene, &camera, RenderOptions::default(), &mut storage).unwrap();
         for (s, sphere) in scene.spheres().iter().enumerate() {
             let k = Prepared::exact(camera.eye(), sphere);
             let b = frame.boxes()[s];

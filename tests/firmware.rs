@@ -14,7 +14,8 @@ fn frame_crcs() -> (u32, u32, u32) {
     let mut scene = scene::BenchScene::new();
     scene::build_scene(&mut scene).unwrap();
     let camera = scene::camera().unwrap();
-    let frame = Frame::new(&scene, &camera, scene::options()).unwrap();
+    let mut storage = microray::FrameStorage::new();
+    let frame = Frame::new(&scene, &camera, scene::options(), &mut storage).unwrap();
     let (crc, pixels) = scene::crc_rgb888(&frame);
     let mut strip = vec![
         embedded_graphics::pixelcolor::Rgb565::new(0, 0, 0);

@@ -55,7 +55,8 @@ fn run(text: &str, out: &mut Outcomes) {
         out.refused += 1;
         return;
     };
-    let Ok(frame) = Frame::new(&file.scene, &camera, file.options) else {
+    let mut storage = Box::new(microray::FrameStorage::new());
+    let Ok(frame) = Frame::new(&file.scene, &camera, file.options, &mut storage) else {
         out.refused += 1;
         return;
     };

@@ -76,7 +76,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let (i0, i1) = (cull.span_start, cull.span_end);
         cull.span.clear();
         for &s in &cull.row {
-            if let Some(b) = self.boxes.get(s as usize) {
+            if let Some(b) = self.tables.boxes.get(s as usize) {
                 if (b.i0 as u32) < i1 && b.i1 as u32 >= i0 {
                     let _ = cull.span.push(s);
                 }
@@ -253,7 +253,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         }
                     }
                 };
-                let band = match self.sweeps.get(li) {
+                let band = match self.tables.sweeps.get(li) {
                     Some(w) if Self::SWEEPS => w.band(light, q, rho),
                     _ => None,
                 };

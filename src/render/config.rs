@@ -29,5 +29,10 @@ pub(super) const OFFS: usize = if KEEPS_OFFSETS { SPAN * KEPT } else { 0 };
 /// Whether spans keep hit offsets (`OFFS` not zero), a flag so that Cortex-M builds, where
 /// `OFFS` is 0, test no comparison that is always false (clippy's `absurd_extreme_comparisons`).
 pub(super) const KEEPS_OFFSETS: bool = cfg!(lanes);
+/// Whether scalar primary rays take the shorter test for an eye outside the sphere
+/// ([`Prepared::hit_outside`], the same answers as [`Prepared::hit`]): not in size builds
+/// (`cfg(size_opt)`), whose flash budget has no room for the second test.
+#[cfg(not(lanes))]
+pub(super) const OUTSIDE_TEST: bool = !cfg!(size_opt);
 // `Cull::done` has a bit per span pixel.
 const _: () = assert!(SPAN <= 32);

@@ -47,6 +47,7 @@ mod encode;
 mod primary;
 mod rows;
 mod shade;
+mod storage;
 mod sweep;
 #[cfg(test)]
 mod tests;
@@ -56,6 +57,7 @@ use config::*;
 use cull::*;
 pub use encode::*;
 pub use rows::*;
+pub use storage::*;
 use sweep::*;
 
 /// Per-frame settings that are not part of the scene.
@@ -95,14 +97,15 @@ pub const SPAN: usize = 32;
 ///
 /// ```
 /// use embedded_graphics::pixelcolor::Rgb888;
-/// use microray::{Camera, Color, Frame, Light, Material, RenderOptions, Scene, Sphere, Vec3};
+/// use microray::{Camera, Color, Frame, FrameStorage, Light, Material, RenderOptions, Scene, Sphere, Vec3};
 ///
 /// let mut scene: Scene<4, 1> = Scene::new();
 /// scene.set_ambient(Color::splat(0.1))?;
 /// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
 /// scene.add_light(Light::Point { position: Vec3::new(3.0, 5.0, 4.0), intensity: Color::ONE })?;
 /// let camera = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 32, 24)?;
-/// let frame = Frame::new(&scene, &camera, RenderOptions::default())?;
+/// let mut storage = FrameStorage::new(); // the per-frame tables, small at this capacity
+/// let frame = Frame::new(&scene, &camera, RenderOptions::default(), &mut storage)?;
 ///
 /// let mut image = [Rgb888::new(0, 0, 0); 32 * 24];
 /// frame.render(&mut image)?;
@@ -116,22 +119,10 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     camera: &'a Camera,
     samples: u32,
     encoding: Encoding,
-    eye: heapless::Vec<Prepared, S>,
-    boxes: heapless::Vec<PixelBox, S>,
-    /// Per light, in scene order: for a point light with shadows, `c` of [`Prepared::exact`]
-    /// from the light for every sphere (the rest of those constants is rebuilt exactly when
-    /// needed); empty for the others.
-    lights: [heapless::Vec<f32, S>; L],
-    /// Per light, in scene order, when shadows are on and `SWEEPS`: its spheres sorted for
-    /// the span culling.
-    sweeps: heapless::Vec<Sweep<S>, L>,
+    /// The per-frame tables, in the caller's storage.
+    tables: &'a FrameStorage<S, L>,
     /// Shadows on and at least one light: the only case that casts shadow rays.
     shadow_rays: bool,
-    /// Every sphere's index: the candidate list of a shadow ray that must test them all, so
-    /// that every shadow ray walks a plain slice.
-    all: List<S>,
-    /// Per sphere, [`Frame::offset_near`]'s answer, decided once.
-    near: heapless::Vec<bool, S>,
 }
 
 /// Sphere indices: a row's, a span's or a light's candidates.
@@ -147,75 +138,38 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// where a scan of all its spheres per span costs about as much.
     const SWEEPS: bool = S > 8;
 
-    /// Prepares a frame; fails only for invalid options (`samples` outside 1..=16).
+    /// Prepares a frame, its tables in `storage` (whatever it held is overwritten); fails only
+    /// for invalid options (`samples` outside 1..=16), and then leaves `storage` as it was.
     ///
     /// ```
-    /// # use microray::{Camera, Error, Frame, RenderOptions, Scene, Vec3};
+    /// # use microray::{Camera, Error, Frame, FrameStorage, RenderOptions, Scene, Vec3};
     /// let scene: Scene<1, 0> = Scene::new();
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
     /// let bad = RenderOptions { samples: 0, ..RenderOptions::default() };
-    /// assert_eq!(Frame::new(&scene, &cam, bad).err(), Some(Error::InvalidSamples));
+    /// let mut storage = FrameStorage::new();
+    /// assert_eq!(Frame::new(&scene, &cam, bad, &mut storage).err(), Some(Error::InvalidSamples));
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn new(
         scene: &'a Scene<S, L>,
         camera: &'a Camera,
         options: RenderOptions,
+        storage: &'a mut FrameStorage<S, L>,
     ) -> Result<Self, Error> {
         #[allow(clippy::let_unit_value)]
         let () = Self::FITS;
         if !(1..=16).contains(&options.samples) {
             return Err(Error::InvalidSamples);
         }
-        let mut frame = Frame {
+        storage.fill(scene, camera, Self::SWEEPS);
+        Ok(Frame {
             scene,
             camera,
             samples: options.samples as u32,
             encoding: options.encoding,
-            eye: heapless::Vec::new(),
-            boxes: heapless::Vec::new(),
-            lights: [const { heapless::Vec::new() }; L],
-            sweeps: heapless::Vec::new(),
+            tables: storage,
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),
-            all: heapless::Vec::new(),
-            near: heapless::Vec::new(),
-        };
-        frame.prepare();
-        Ok(frame)
-    }
-
-    /// Fills the per-frame tables where they lie. Built apart and moved in, the per-light
-    /// tables were copied whole, capacity included (0.7 MB at `Frame<1024, 32>`): 3.2 MB of
-    /// copies and 0.5 MB of zeroing, most of `Frame::new`'s time and serial before a
-    /// multi-threaded render. One copy is left, the frame's return by value.
-    fn prepare(&mut self) {
-        let (scene, camera) = (self.scene, self.camera);
-        // Capacity S, at most S spheres (below `REST`, `FITS`), and at most L lights (the
-        // scene's capacity): none of the pushes can fail.
-        let screen = Screen::new(camera);
-        for (s, sphere) in scene.spheres().iter().enumerate() {
-            let k = Prepared::exact(camera.eye(), sphere);
-            let _ = self.boxes.push(screen.sphere_box(&k));
-            let _ = self
-                .near
-                .push(crate::geometry::offset_is_near(k.f, k.r, scene.near2(s)));
-            let _ = self.all.push(s as u16);
-            let _ = self.eye.push(k);
-        }
-        let axes = camera.basis();
-        for (light, consts) in scene.lights().iter().zip(&mut self.lights) {
-            if let (Light::Point { position, .. }, true) = (light, scene.shadows()) {
-                for s in scene.spheres() {
-                    let _ = consts.push(Prepared::exact(*position, s).c);
-                }
-            }
-            if scene.shadows() && Self::SWEEPS {
-                let _ = self.sweeps.push(Sweep::empty());
-                if let Some(sweep) = self.sweeps.last_mut() {
-                    sweep.fill(light, scene.spheres(), axes.0, axes.1);
-                }
-            }
-        }
+        })
     }
 
     /// Image width in pixels.
@@ -224,7 +178,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # use microray::{Camera, Frame, RenderOptions, Scene, Vec3};
     /// # let scene: Scene<1, 0> = Scene::new();
     /// # let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 3)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// assert_eq!((frame.width(), frame.height()), (4, 3));
     /// # Ok::<(), microray::Error>(())
     /// ```
@@ -238,7 +193,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # use microray::{Camera, Frame, RenderOptions, Scene, Vec3};
     /// # let scene: Scene<1, 0> = Scene::new();
     /// # let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 3)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// assert_eq!(frame.height(), 3);
     /// # Ok::<(), microray::Error>(())
     /// ```
@@ -255,13 +211,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// scene.add_sphere(Sphere::new(Vec3::ZERO, 0.5), Material::default())?;
     /// scene.add_sphere(Sphere::new(Vec3::new(0.0, 0.0, 9.0), 1.0), Material::default())?; // behind
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 64, 64)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// let b = frame.boxes()[0];
     /// assert!(b.contains(32, 32) && !b.contains(0, 0));
     /// assert!(frame.boxes()[1].is_empty());
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn boxes(&self) -> &[PixelBox] {
-        &self.boxes
+        &self.tables.boxes
     }
 }

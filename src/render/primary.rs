@@ -9,7 +9,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     pub(super) fn primary_hit(&self, ray: &Ray) -> Option<Hit> {
         let mut best: Option<(f32, usize)> = None;
         let mut tmax = f32::INFINITY;
-        for (i, k) in self.eye.iter().enumerate() {
+        for (i, k) in self.tables.eye.iter().enumerate() {
             if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
                 tmax = t;
                 best = Some((t, i));
@@ -30,7 +30,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let mut tmax = f32::INFINITY;
         for &s in cands {
             let s = s as usize;
-            let (Some(b), Some(k)) = (self.boxes.get(s), self.eye.get(s)) else {
+            let (Some(b), Some(k)) = (self.tables.boxes.get(s), self.tables.eye.get(s)) else {
                 continue;
             };
             if i < b.i0 as u32 || i > b.i1 as u32 {
@@ -57,7 +57,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     #[inline(always)]
     pub(super) fn eye_record(&self, s: usize) -> Option<(&Prepared, &crate::Sphere, bool)> {
         Some((
-            self.eye.get(s)?,
+            self.tables.eye.get(s)?,
             self.scene.spheres().get(s)?,
             self.offset_near(s),
         ))
@@ -204,8 +204,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         for &sphere in &cull.span {
             let (Some(b), Some(k)) = (
-                self.boxes.get(sphere as usize),
-                self.eye.get(sphere as usize),
+                self.tables.boxes.get(sphere as usize),
+                self.tables.eye.get(sphere as usize),
             ) else {
                 continue;
             };
@@ -220,7 +220,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 continue;
             };
             // The eye outside the sphere, as for most: decided once per box, not per ray.
-            let outside = k.outside();
+            let outside = OUTSIDE_TEST && k.outside();
             for ((d, t), s) in dirs.iter().zip(ts.iter_mut()).zip(ss.iter_mut()) {
                 let hit = if outside {
                     k.hit_outside(*d, T_EPS, *t)
@@ -278,8 +278,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         for &sphere in span {
             let (Some(b), Some(k)) = (
-                self.boxes.get(sphere as usize),
-                self.eye.get(sphere as usize),
+                self.tables.boxes.get(sphere as usize),
+                self.tables.eye.get(sphere as usize),
             ) else {
                 continue;
             };
@@ -364,7 +364,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let one = |m: usize, ps: &mut [Vec3], os: &mut [Vec3]| {
             let s = sp[m] as usize;
             if let (Some(k), Some(sphere), Some(p), Some(o)) = (
-                self.eye.get(s),
+                self.tables.eye.get(s),
                 spheres.get(s),
                 ps.get_mut(m),
                 os.get_mut(m),
@@ -381,7 +381,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let near = whole && self.offset_near(s as usize);
             // Four hits on one sphere beyond `near2`: `hit_point_far` lane by lane.
             if whole && !near {
-                if let (Some(k), Some(sphere)) = (self.eye.get(s as usize), spheres.get(s as usize))
+                if let (Some(k), Some(sphere)) =
+                    (self.tables.eye.get(s as usize), spheres.get(s as usize))
                 {
                     let lanes = |a: &[f32; PAD]| {
                         F::from(core::array::from_fn::<f32, LANES, _>(|l| a[m + l]))

@@ -12,7 +12,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// let mut scene: Scene<1, 0> = Scene::new();
     /// scene.set_background(Color::splat(0.3))?;
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// assert_eq!(frame.trace(&cam.ray(2.0, 2.0)), Color::splat(0.3));
     /// # Ok::<(), microray::Error>(())
     /// ```
@@ -29,13 +30,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// let mut scene: Scene<1, 0> = Scene::new();
     /// scene.set_background(Color::splat(2.0))?;
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions { samples: 2, ..Default::default() })?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions { samples: 2, ..Default::default() }, &mut storage)?;
     /// assert_eq!(frame.pixel_color(0, 0), Color::splat(2.0));
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn pixel_color(&self, i: u32, j: u32) -> Color {
         let mut cands: List<S> = heapless::Vec::new();
-        for (s, b) in self.boxes.iter().enumerate() {
+        for (s, b) in self.tables.boxes.iter().enumerate() {
             if b.contains(i, j) {
                 let _ = cands.push(s as u16);
             }
@@ -53,7 +55,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// let mut scene: Scene<1, 0> = Scene::new();
     /// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// assert_eq!(frame.pixel_color_brute(4, 4), frame.pixel_color(4, 4));
     /// # Ok::<(), microray::Error>(())
     /// ```
@@ -87,7 +90,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// let mut scene: Scene<1, 0> = Scene::new();
     /// scene.set_background(Color::new(1.0, 0.5, 0.0))?;
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// assert_eq!(frame.pixel(3, 3), Rgb888::new(255, 128, 0));
     /// # Ok::<(), microray::Error>(())
     /// ```
@@ -105,7 +109,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// let mut scene: Scene<1, 0> = Scene::new();
     /// scene.set_background(Color::new(1.0, 0.5, 0.0))?;
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 4)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// assert!(frame.row(1).all(|p| p == Rgb888::new(255, 128, 0)));
     /// assert_eq!(frame.row(1).count(), 4);
     /// assert_eq!(frame.row(4).count(), 0);
@@ -129,7 +134,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Starts row `j`: its spheres are those whose box crosses it, in scene order.
     pub(super) fn start_row(&self, j: u32, cull: &mut Cull<S, L>) {
         cull.row.clear();
-        for (s, b) in self.boxes.iter().enumerate() {
+        for (s, b) in self.tables.boxes.iter().enumerate() {
             if b.has_row(j) {
                 let _ = cull.row.push(s as u16);
             }
@@ -142,7 +147,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     #[cfg(lanes)]
     pub(super) fn start_rows(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
         cull.row.clear();
-        for (s, b) in self.boxes.iter().enumerate() {
+        for (s, b) in self.tables.boxes.iter().enumerate() {
             if (j..j + n).any(|r| b.has_row(r)) {
                 let _ = cull.row.push(s as u16);
             }
@@ -273,7 +278,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # let mut scene: Scene<1, 0> = Scene::new();
     /// # scene.set_background(Color::new(1.0, 0.0, 0.0))?;
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 6)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// let mut band = [Rgb565::new(0, 0, 0); 2 * 8]; // two rows, straight into a display format
     /// for first in (0..6).step_by(2) {
     ///     assert_eq!(frame.render_rows(first, &mut band)?, 2);
@@ -362,7 +368,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// let mut scene: Scene<1, 0> = Scene::new();
     /// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// let (mut a, mut b) = ([Rgb888::new(0, 0, 0); 64], [Rgb888::new(0, 0, 0); 64]);
     /// frame.render_rows(0, &mut a)?;
     /// frame.render_rows_brute(0, &mut b)?;
@@ -404,7 +411,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # use microray::{Camera, Error, Frame, RenderOptions, Scene, Vec3};
     /// # let scene: Scene<1, 0> = Scene::new();
     /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 4, 3)?;
-    /// let frame = Frame::new(&scene, &cam, RenderOptions::default())?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
     /// let mut too_small = [Rgb888::new(0, 0, 0); 4 * 2];
     /// assert_eq!(frame.render(&mut too_small), Err(Error::BufferSize));
     /// # Ok::<(), microray::Error>(())

@@ -97,7 +97,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         use wide::{CmpGt, CmpLe, CmpLt};
         let scene = self.scene;
         let active = if ALL { 0b1111 } else { active };
-        let (k, sphere) = (self.eye.get(si)?, scene.spheres().get(si)?);
+        let (k, sphere) = (self.tables.eye.get(si)?, scene.spheres().get(si)?);
         if scene.has_mirror(si) && scene.max_depth() > 0 {
             return None;
         }
@@ -160,14 +160,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// makes once per sphere.
     #[inline(always)]
     pub(super) fn offset_near(&self, s: usize) -> bool {
-        self.near.get(s).copied().unwrap_or(false)
+        self.tables.near.get(s).copied().unwrap_or(false)
     }
 
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).
     #[inline]
     pub(super) fn light_consts(&self, i: usize, light: &Light) -> Option<&[f32]> {
         match light {
-            Light::Point { .. } => self.lights.get(i).map(|v| &v[..]),
+            Light::Point { .. } => self.tables.lights.get(i).map(|v| &v[..]),
             Light::Directional { .. } => None,
         }
     }
@@ -245,7 +245,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     #[inline(always)]
     pub(super) fn candidates<'c>(&'c self, lists: Option<Lists<'c, L>>, i: usize) -> &'c [u16] {
         // A slice in both cases: one copy of the shadow tests, and a tight loop.
-        lists.and_then(|l| l.light(i)).unwrap_or(&self.all)
+        lists.and_then(|l| l.light(i)).unwrap_or(&self.tables.all)
     }
 
     /// Whether light `i` is blocked at `hit` (`v` its `to_light` vector), testing the

@@ -49,7 +49,8 @@ pub fn render_file(path: &str) -> Image {
 }
 
 pub fn render(file: &Desktop) -> Image {
-    let frame = Box::new(Frame::new(&file.scene, &file.camera, file.options).unwrap());
+    let mut storage = Box::new(microray::FrameStorage::new());
+    let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage).unwrap();
     let (w, h) = (file.camera.width(), file.camera.height());
     let mut buf = vec![Rgb888::BLACK; (w * h) as usize];
     frame.render(&mut buf).unwrap();

@@ -26,7 +26,7 @@ use core::ptr::{addr_of, addr_of_mut, read_volatile, write_volatile};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 use embedded_graphics::pixelcolor::Rgb565;
-use microray::{Camera, Frame};
+use microray::{Camera, Frame, FrameStorage};
 
 use board::{exit, start_clock, ticks};
 use scene::{BenchScene, HEIGHT, LIGHTS, SPHERES, STRIP_ROWS, WIDTH};
@@ -38,6 +38,9 @@ const BOARD: &str = "microbit";
 
 /// The scene, built in place by `setup` (const-initialised empty: no copy on the stack).
 static mut SCENE: BenchScene = BenchScene::new();
+/// The frame's per-frame tables, in a static as the scene.
+type Storage = FrameStorage<SPHERES, LIGHTS>;
+static mut STORAGE: Storage = FrameStorage::new();
 
 /// The strip buffer: one `Rgb565` row, the firmware's only pixel memory (in `.bss`).
 static mut STRIP: [Rgb565; WIDTH as usize * STRIP_ROWS] =
@@ -97,7 +100,9 @@ fn setup() -> &'static Frame<'static, SPHERES, LIGHTS> {
         Ok(c) => cortex_m::singleton!(: Camera = c).unwrap_or_else(|| exit(false)),
         Err(e) => fail("camera", e),
     };
-    match Frame::new(scene, camera, scene::options()) {
+    // SAFETY: the only reference ever made to STORAGE (setup runs once).
+    let storage: &'static mut Storage = unsafe { &mut *addr_of_mut!(STORAGE) };
+    match Frame::new(scene, camera, scene::options(), storage) {
         Ok(f) => cortex_m::singleton!(: Frame<'static, SPHERES, LIGHTS> = f)
             .unwrap_or_else(|| exit(false)),
         Err(e) => fail("frame", e),
