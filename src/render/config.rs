@@ -11,10 +11,9 @@ use super::*;
 pub(super) const DIRS: usize = if cfg!(no_dirs) { 0 } else { SPAN * KEPT };
 /// Primary hits a span keeps per column for shading: the samples of a supersampled pixel, so
 /// that it is not traced twice (once for the span's bounds, once to shade; up to 2×2), or with
-/// one sample the rows of a tile (`Frame::render_rows`: 8 rows measured 1.045× faster than 4 on
-/// the target scene, 16 no faster than 8). One on Arm, whose render stack (2 KiB on the
-/// firmware) has no room for 54 more bytes a pixel; one wherever there are no lanes, so that a
-/// host built without them (`MICRORAY_HOST_AS`, see build.rs) takes Cortex-M's path.
+/// one sample the rows of a tile (`Frame::tile_rows`). One on Arm, whose render stack (2 KiB
+/// on the firmware) has no room for 54 more bytes a pixel; one wherever there are no lanes, so
+/// that a host built without them (`MICRORAY_HOST_AS`, see build.rs) takes Cortex-M's path.
 pub(super) const KEPT: usize = if cfg!(lanes) { 8 } else { 1 };
 /// `DIRS` and the lanes read past the last slot (`Cull::hit_dc`).
 #[cfg(lanes)]

@@ -13,10 +13,9 @@ pub(super) const ALL: (u16, u16) = (u16::MAX, 0);
 /// light the spheres that can block its shadow rays from the span's primary hits (all kept in
 /// one pool of `S` indices; a light that does not fit tests every sphere).
 ///
-/// On Cortex-M `repr(C)`, the per-slot arrays first: a new row's zeros (`Cull::new`) are then
-/// written straight into the `Row` that `Frame::row` returns; in the compiler's own layout it
-/// built them in a temporary and copied 576 bytes a row (M4F: 397.6 → 395.1 instructions a
-/// pixel). Hosts keep the compiler's layout (x86: +0.14% instructions a pixel in `repr(C)`).
+/// On Cortex-M `repr(C)`, the per-slot arrays first, so that a new row's zeros (`Cull::new`)
+/// are written straight into the `Row` that `Frame::row` returns, not built in a temporary and
+/// copied. Hosts keep the compiler's layout: `repr(C)` gains them nothing.
 #[derive(Debug)]
 #[cfg_attr(not(lanes), repr(C))]
 pub(super) struct Cull<const S: usize, const L: usize> {
@@ -44,7 +43,7 @@ pub(super) struct Cull<const S: usize, const L: usize> {
     pub(super) stored: bool,
     /// The same for every sample of a supersampled span, sample `m` of pixel `k` in slot
     /// `m·SPAN + k` (see [`KEPT`]). Apart from `stored` so that a pixel of one sample tests one
-    /// flag, not also the sample count (one flag for both: +0.5% x86 instructions a pixel).
+    /// flag, not also the sample count.
     pub(super) kept: bool,
     /// On hosts, the directions by coordinate (x, y, z), padded to whole lanes past the last
     /// slot: traced and shaded four columns at a time, a lane group is one load per

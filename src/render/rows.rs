@@ -236,7 +236,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             return self.shade_stored(&ray, t, s as usize, cull.lists_at(k));
             // The hit record from (t, sphere): `make_hit` is a pure function of them. Its ray
             // built anew from the values, not read back from `ray`, which shading takes by
-            // address: M4F loaded the direction and eye through core registers to copy them.
+            // address: the direction and eye stay in registers, not copied out of memory.
             #[allow(unreachable_code)]
             let first = if KEEPS_OFFSETS && SPHERE_MAJOR {
                 self.kept_hit(&ray, t, s as usize, k, cull)
@@ -322,8 +322,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// `fill_span`, and with one sample a pixel and shadow rays `KEPT` (8) rows at a time (a
     /// tile), whose hits the sample slots hold: one set of shadow lists for the tile's groups
     /// instead of one per row. A tile's bounds are barely larger than a row's (a span is 32
-    /// pixels wide), and the lists were a quarter of a shadowed frame's time. `out` gets each
-    /// row of each span of each tile in turn; its first error ends it.
+    /// pixels wide), so its lists are barely longer. `out` gets each row of each span of each
+    /// tile in turn; its first error ends it.
     #[cfg(lanes)]
     pub(crate) fn tile_rows<E>(
         &self,
