@@ -2,12 +2,15 @@
 //!
 //! # How a frame is traced fast
 //!
-//! [`Frame::new`] computes what all rays of the frame share: for the eye, `o − m` and
-//! `|o − m|² − r²` of every sphere ([`Prepared::exact`]); for every point light (when shadows
-//! are on) the `c = |o − m|² − r²` of those constants (the rest is rebuilt exactly when used);
-//! for every sphere its exact, conservative screen-space box ([`crate::raster`]); and for every
-//! light (with shadows) its spheres sorted by a 1-D key, to find shadow candidates by a binary
-//! search.
+//! [`Frame::new`] fills the caller's [`FrameStorage`] with what all rays of the frame share:
+//! for the eye, `o − m` and `|o − m|² − r²` of every sphere ([`Prepared::exact`]); for every
+//! point light (when shadows are on) the `c = |o − m|² − r²` of those constants (the rest is
+//! rebuilt exactly when used); for every sphere its exact, conservative screen-space box
+//! ([`crate::raster`]); and, above a capacity of 8 spheres, for every light (with shadows) its
+//! spheres sorted by a key across the light, with a bucket index over the sorted keys. A span's
+//! shadow candidates are the entries within its band of keys, scanned from the bucket of the
+//! band's low end: from the bucket's start where it holds at most 8 entries, else from a
+//! binary search within the bucket.
 //! [`Frame::render_rows`] then walks each row in spans of [`SPAN`] pixels:
 //!
 //! 1. the row's spheres are those whose box crosses it, the span's those whose box overlaps
@@ -17,8 +20,8 @@
 //!    each group bounded by a ball; for each group and light, only the spheres that can meet a
 //!    shadow ray from that ball are kept (for a point light: the cone hull of the light and the
 //!    ball; for a directional light: the ball swept along the light), found in the light's
-//!    sorted band (never a group's own sphere, which shadow rays leave analytically); shadow
-//!    rays stop at the first blocker;
+//!    sorted band, or among all spheres at a capacity of 8 or less (never a group's own
+//!    sphere, which shadow rays leave analytically); shadow rays stop at the first blocker;
 //! 3. the pixels are shaded with those lists, from the stored hits and ray directions; every
 //!    miss shows the background whatever its ray, so the row shades one miss for all.
 //!
@@ -29,6 +32,7 @@
 //! anywhere, are traced against every sphere.
 //!
 //! A scene pays only for what it has: without lights or shadows, step 2 is skipped; no
+//! specular or mirror work is done for materials without them.
 
 use embedded_graphics::pixelcolor::Rgb888;
 
@@ -36,9 +40,9 @@ use crate::camera::{sample_offset, Camera};
 use crate::error::Error;
 use crate::geometry::{hit_point_near, Prepared, Ray};
 use crate::math::{powf, Color, Vec3};
-use crate::raster::{PixelBox, Screen, ETA};
+use crate::raster::{PixelBox, Screen};
 use crate::scene::{hit_from_offset, make_hit, Hit, Light, Scene};
-use crate::shading::{follow, in_shadow_among, shade_lit, T_EPS};
+use crate::shading::{follow, in_shadow_among, shade_lit, LightKind, T_EPS};
 
 mod candidates;
 mod config;
@@ -89,8 +93,8 @@ impl Default for RenderOptions {
 pub const SPAN: usize = 32;
 
 /// A scene, a camera and options, with everything that all rays of the frame share computed
-/// once: `o − m` and `|o − m|² − r²` of every sphere for the eye and for every point light,
-/// and every sphere's box on the screen.
+/// once into a [`FrameStorage`]: `o − m` and `|o − m|² − r²` of every sphere for the eye,
+/// `|o − m|² − r²` for every point light, and every sphere's box on the screen.
 ///
 /// Build it once, then render the whole image, bands of rows, single pixels, or draw onto an
 /// embedded-graphics display.

@@ -166,10 +166,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The per-light constants of light `i` (empty unless it is a point light with shadows).
     #[inline]
     pub(super) fn light_consts(&self, i: usize, light: &Light) -> Option<&[f32]> {
-        match light {
-            Light::Point { .. } => self.tables.lights.get(i).map(|v| &v[..]),
-            Light::Directional { .. } => None,
-        }
+        // Kept for the lights whose shadow rays share an origin.
+        light
+            .origin()
+            .and(self.tables.lights.get(i))
+            .map(|v| &v[..])
     }
 
     /// The pixel of [`Frame::shade_from`] of [`Frame::eye_hit`]`(ray, t, s)`, a span's stored

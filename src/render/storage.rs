@@ -89,9 +89,9 @@ impl<const S: usize, const L: usize> FrameStorage<S, L> {
             consts.clear();
         }
         for (light, consts) in scene.lights().iter().zip(&mut self.lights) {
-            if let (Light::Point { position, .. }, true) = (light, scene.shadows()) {
+            if let (Some(origin), true) = (light.origin(), scene.shadows()) {
                 for s in scene.spheres() {
-                    let _ = consts.push(Prepared::exact(*position, s).c);
+                    let _ = consts.push(Prepared::exact(origin, s).c);
                 }
             }
             if scene.shadows() && sweeps {

@@ -3,10 +3,6 @@
 
 use super::*;
 
-/// Angular margin of the sweep keys of point lights (radians): far above the rounding of
-/// `atan2f` and of the unit directions' components.
-pub(super) const ANGLE_MARGIN: f32 = 1e-4;
-
 /// One light's spheres sorted by a key, so that a span finds its possible shadow blockers by a
 /// search in a bucket instead of testing every sphere, and filtered by a second key (`axis2`):
 /// for a point light, the component along an axis across the light of the unit direction from
@@ -15,7 +11,7 @@ pub(super) const ANGLE_MARGIN: f32 = 1e-4;
 /// radius as half-width. A sphere can block a shadow ray from a span only if its key interval
 /// meets the span's (two unit directions at an angle θ differ by at most θ in any component; a
 /// distance is at least the difference of its projections), so the band is a superset of
-/// [`may_block`]'s answers, which then decides.
+/// [`LightKind::may_block`]'s answers, which then decides.
 /// Spheres much wider than the rest (a ground, a wall) would widen every band: they are kept
 /// apart and always tested.
 #[derive(Debug)]
@@ -105,20 +101,11 @@ impl<const S: usize> Sweep<S> {
 
     /// Sorts `spheres` for `light` into this sweep, which must be empty.
     pub(super) fn fill(&mut self, light: &Light, spheres: &[crate::Sphere], u: Vec3, v: Vec3) {
-        // Keys across the light's direction (a point light's: the mean direction from it to
-        // the spheres, else the view's), where they spread the spheres the most: a point
-        // light's are the components of the unit direction to each sphere, which two
-        // directions at an angle θ differ in by at most 2 sin(θ/2) ≤ θ, so angular
-        // half-widths bound them (an angle from one axis took an `atan2f` per span).
-        let along = match *light {
-            Light::Point { position, .. } => spheres
-                .iter()
-                .filter_map(|s| (s.center - position).normalized())
-                .fold(Vec3::ZERO, |sum, d| sum + d)
-                .normalized()
-                .or_else(|| u.cross(v).normalized()),
-            Light::Directional { direction, .. } => Some(direction),
-        };
+        // Keys across the light's direction (`LightKind::sweep_along`, else the view's),
+        // where they spread the spheres the most.
+        let along = light
+            .sweep_along(spheres)
+            .or_else(|| u.cross(v).normalized());
         let axis = along.and_then(|c| {
             // The camera's right (or up) vector without its component along `c`.
             let across = |a: Vec3| a - c * a.dot(c);
@@ -137,29 +124,8 @@ impl<const S: usize> Sweep<S> {
         let mut all: heapless::Vec<Entry, S> = heapless::Vec::new();
         for (s, sphere) in spheres.iter().enumerate() {
             let (m, r) = (sphere.center, sphere.radius);
-            let l1 = |w: Vec3| libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z);
-            let e = match *light {
-                Light::Point { position, .. } => {
-                    // The same padded radius as `may_block`.
-                    let w = m - position;
-                    let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(w) + r);
-                    let ww = w.dot(w);
-                    if !(ww > big * big * 1.01) {
-                        // The light inside or near: wide.
-                        Entry::new(0.0, f32::INFINITY, s, 0.0)
-                    } else {
-                        let hw = libm::atan2f(big, libm::sqrtf(ww - big * big));
-                        let len = libm::sqrtf(ww);
-                        Entry::new(axis.dot(w) / len, hw, s, axis2.dot(w) / len)
-                    }
-                }
-                Light::Directional { .. } => {
-                    // `may_block` pads with 2η|m − q|₁ ≤ 2η(|m|₁ + |q|₁); the |q|₁ part and
-                    // the rounding of keys (1e-5 of |m|₁, |q|₁) are added per span.
-                    let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(m) + r) + 1e-5 * l1(m);
-                    Entry::new(axis.dot(m), big, s, axis2.dot(m))
-                }
-            };
+            let (key, half, key2) = light.sweep_entry(m, r, axis, axis2);
+            let e = Entry::new(key, half, s, key2);
             let _ = all.push(e);
         }
         // "Wide": more than 8 times the median half-width.
@@ -327,134 +293,10 @@ impl<const S: usize> Sweep<S> {
         if self.axis == Vec3::ZERO {
             return None;
         }
-        let l1 = libm::fabsf(q.x) + libm::fabsf(q.y) + libm::fabsf(q.z);
-        let (key, slack, key2) = match *light {
-            Light::Point { position, .. } => {
-                let v = q - position;
-                let vv = v.dot(v);
-                if !(vv > rho * rho * 1.01) {
-                    return None;
-                }
-                let len = libm::sqrtf(vv);
-                let (key, key2) = (self.axis.dot(v) / len, self.axis2.dot(v) / len);
-                // The ball's half-angle seen from the light is atan of this, and atan x ≤ x:
-                // a wider band, never a narrower one, without an `atan2f` per span.
-                let tan_theta = rho / libm::sqrtf(vv - rho * rho);
-                (key, tan_theta + ANGLE_MARGIN, key2)
-            }
-            // The same bound holds along any unit axis across a directional light.
-            Light::Directional { .. } => (
-                self.axis.dot(q),
-                rho + 2.0 * ETA * (l1 + rho) + rho + 1e-5 * l1,
-                self.axis2.dot(q),
-            ),
-        };
+        let (key, slack, key2) = light.band(q, rho, self.axis, self.axis2)?;
         if !(key.is_finite() && slack.is_finite() && key2.is_finite()) {
             return None;
         }
         Some((self, key, self.hw_max + slack, slack, key2))
-    }
-}
-
-/// [`may_block`] of four spheres (centres `m`, radii `r`) at once in vector lanes (`cfg(lanes)`):
-/// the same operations lane by lane, so the same answers, as bits `0..4`.
-#[cfg(lanes)]
-#[inline(always)]
-pub(super) fn may_block4(light: &Light, m: [Vec3; 4], r: [f32; 4], q: Vec3, rho: f32) -> u32 {
-    use wide::{f32x4 as F, CmpGt, CmpLt};
-    let v = F::splat;
-    let (mx, my, mz) = (
-        F::from(m.map(|c| c.x)),
-        F::from(m.map(|c| c.y)),
-        F::from(m.map(|c| c.z)),
-    );
-    let r = F::from(r);
-    let (rho_v, eta2) = (v(rho), v(2.0 * ETA));
-    let not_above = |g: F, tol: F| !(g.cmp_gt(tol)).move_mask() as u32 & 0b1111;
-    match *light {
-        Light::Point { position, .. } => {
-            let (wx, wy, wz) = (mx - v(position.x), my - v(position.y), mz - v(position.z));
-            let qv = q - position;
-            let big = r * v(1.0 + 2e-4) + eta2 * (wx.abs() + wy.abs() + wz.abs() + r);
-            let (ww, vv) = (wx * wx + wy * wy + wz * wz, v(qv.dot(qv)));
-            let wv = wx * v(qv.x) + wy * v(qv.y) + wz * v(qv.z);
-            let a = vv - v(rho * rho);
-            let b = wv + big * rho_v;
-            let g0 = ww - big * big;
-            let g1 = a - v(2.0) * b + g0;
-            let gmin = g0.cmp_lt(g1).blend(g0, g1);
-            let inner = a.cmp_gt(F::ZERO) & b.cmp_gt(F::ZERO) & b.cmp_lt(a);
-            let gv = g0 - b * (b / a);
-            let gmin = (inner & gv.cmp_lt(gmin)).blend(gv, gmin);
-            let tol = v(1e-5) * (ww + vv + big * big + v(rho * rho));
-            not_above(gmin, tol)
-        }
-        Light::Directional { direction, .. } => {
-            let l = -direction;
-            let (wx, wy, wz) = (mx - v(q.x), my - v(q.y), mz - v(q.z));
-            let s = wx * v(l.x) + wy * v(l.y) + wz * v(l.z);
-            let ahead = s.cmp_gt(F::ZERO);
-            let (ex, ey, ez) = (
-                ahead.blend(wx - v(l.x) * s, wx),
-                ahead.blend(wy - v(l.y) * s, wy),
-                ahead.blend(wz - v(l.z) * s, wz),
-            );
-            let big =
-                r * v(1.0 + 2e-4) + eta2 * (wx.abs() + wy.abs() + wz.abs() + rho_v + r) + rho_v;
-            let d2 = ex * ex + ey * ey + ez * ez;
-            let tol = v(1e-5) * (wx * wx + wy * wy + wz * wz + big * big);
-            not_above(d2 - big * big, tol)
-        }
-    }
-}
-
-/// Whether a sphere (centre `m`, radius `r`) can block a shadow ray towards `light` from some
-/// point of the ball `(q, rho)`: a conservative test, padded well beyond the rounding of the
-/// shadow test itself and of this one.
-/// Hosts weigh candidates four at a time with [`may_block4`]; this stays the Arm path and the
-/// reference the lanes are tested against.
-#[cfg_attr(lanes, allow(dead_code))]
-#[inline]
-pub(super) fn may_block(light: &Light, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
-    match *light {
-        Light::Point { position, .. } => {
-            // Shadow rays run from the light to points of the ball: the segments fill the
-            // cone hull of the light and the ball, whose section at λ ∈ [0, 1] along
-            // v = q − light is the ball (light + λ v, λ ρ). The sphere misses it iff
-            // g(λ) = |w − λ v|² − (R + λ ρ)² > 0 on [0, 1], w = m − light.
-            let w = m - position;
-            let v = q - position;
-            // |x| + |y| + |z| ≥ |w|: a wider pad without a square root.
-            let big = r * (1.0 + 2e-4)
-                + 2.0 * ETA * (libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z) + r);
-            let (ww, vv, wv) = (w.dot(w), v.dot(v), w.dot(v));
-            let a = vv - rho * rho;
-            let b = wv + big * rho;
-            let g0 = ww - big * big;
-            let g1 = a - 2.0 * b + g0;
-            let mut gmin = if g0 < g1 { g0 } else { g1 };
-            if a > 0.0 && b > 0.0 && b < a {
-                let gv = g0 - b * (b / a);
-                if gv < gmin {
-                    gmin = gv;
-                }
-            }
-            let tol = 1e-5 * (ww + vv + big * big + rho * rho);
-            !(gmin > tol)
-        }
-        Light::Directional { direction, .. } => {
-            // Shadow rays leave points of the ball along l = −direction: the sphere misses
-            // them iff it stays farther than R + ρ from the half-line q + t l, t ≥ 0.
-            let l = -direction;
-            let w = m - q;
-            let s = w.dot(l);
-            let e = if s > 0.0 { w - l * s } else { w };
-            let big = r * (1.0 + 2e-4)
-                + 2.0 * ETA * (libm::fabsf(w.x) + libm::fabsf(w.y) + libm::fabsf(w.z) + rho + r)
-                + rho;
-            let d2 = e.dot(e);
-            let tol = 1e-5 * (w.dot(w) + big * big);
-            !(d2 - big * big > tol)
-        }
     }
 }

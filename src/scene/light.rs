@@ -1,4 +1,5 @@
-//! [`Light`]: point and directional lights.
+//! [`Light`]: point and directional lights, and their validation. What each kind does in shading
+//! and culling is its `LightKind` impl in `shading/lights.rs`.
 
 use super::*;
 
@@ -40,5 +41,28 @@ impl Light {
         match *self {
             Light::Point { intensity, .. } | Light::Directional { intensity, .. } => intensity,
         }
+    }
+
+    /// The light with its values checked (finite, colours non-negative) and a directional
+    /// light's direction normalised: what [`Scene::add_light`] stores.
+    pub(super) fn checked(self) -> Result<Light, Error> {
+        Ok(match self {
+            Light::Point {
+                position,
+                intensity,
+            } => Light::Point {
+                position: check_point(position)?,
+                intensity: check_color(intensity)?,
+            },
+            Light::Directional {
+                direction,
+                intensity,
+            } => Light::Directional {
+                direction: check_point(direction)?
+                    .normalized()
+                    .ok_or(Error::ZeroDirection)?,
+                intensity: check_color(intensity)?,
+            },
+        })
     }
 }

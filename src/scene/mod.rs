@@ -169,24 +169,7 @@ impl<const S: usize, const L: usize> Scene<S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn add_light(&mut self, light: Light) -> Result<(), Error> {
-        let light = match light {
-            Light::Point {
-                position,
-                intensity,
-            } => Light::Point {
-                position: check_point(position)?,
-                intensity: check_color(intensity)?,
-            },
-            Light::Directional {
-                direction,
-                intensity,
-            } => Light::Directional {
-                direction: check_point(direction)?
-                    .normalized()
-                    .ok_or(Error::ZeroDirection)?,
-                intensity: check_color(intensity)?,
-            },
-        };
+        let light = light.checked()?;
         self.lights.push(light).map_err(|_| Error::TooManyLights)
     }
 

@@ -53,7 +53,7 @@ pub(crate) fn shade_lit4<const S: usize, const L: usize>(
     active: u32,
     mut blocked: impl FnMut(usize, &Light, u32, &V) -> u32,
 ) -> Option<V> {
-    use wide::{CmpGt, CmpLe};
+    use wide::CmpGt;
     let m = scene.materials().get(h.sphere)?;
     let lights = scene.lights();
     let n = h.normal;
@@ -67,21 +67,7 @@ pub(crate) fn shade_lit4<const S: usize, const L: usize>(
     let (kd, ks) = (V::splat(m.diffuse), V::splat(m.specular));
     for (i, light) in lights.iter().enumerate() {
         // `to_light` and `unit_towards`.
-        let (to, l) = match *light {
-            Light::Point { position, .. } => {
-                let to = V::splat(position).sub(h.anchor).sub(h.rel);
-                let ll = to.dot(to);
-                let normal = F::splat(f32::MIN_POSITIVE).cmp_le(ll) & ll.cmp_le(F::splat(f32::MAX));
-                if bits(normal) & active != active {
-                    return None;
-                }
-                (to, to.div(ll.sqrt()))
-            }
-            Light::Directional { direction, .. } => {
-                let to = V::splat(-direction);
-                (to, to)
-            }
-        };
+        let (to, l) = light.towards4(h.anchor, h.rel, active)?;
         let nl = n.dot(l);
         let facing = nl.cmp_gt(F::ZERO);
         let ask = bits(facing) & active;
@@ -137,10 +123,7 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
     let spheres = scene.spheres();
     let inside = bits(h.normal.dot(h.offset).cmp_lt(F::ZERO));
     // The lanes whose shadow ray `shadow_ray` scales up take the scalar test too.
-    let small = match *light {
-        Light::Point { .. } => bits(to.dot(*to).cmp_lt(F::splat(f32::from_bits(SMALL_VV)))),
-        Light::Directional { .. } => 0,
-    };
+    let small = light.scalar_lanes(to);
     let inside = inside | small;
     let mut out = 0;
     for l in ones(ask & inside) {
@@ -161,10 +144,6 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
         }
         hit
     };
-    let d = match *light {
-        Light::Point { .. } => to.neg(),
-        Light::Directional { .. } => *to,
-    };
     for &j in candidates {
         if open == 0 {
             break;
@@ -174,20 +153,7 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
         if j == h.sphere {
             continue;
         }
-        let hit = match *light {
-            Light::Point { position, .. } => match light_c(j) {
-                Some(c) if c <= NEAR_LIGHT * (s.radius * s.radius) => {
-                    let k = Prepared {
-                        f: position - s.center,
-                        c,
-                        r: s.radius,
-                    };
-                    k.hit_bits4(&d, T_EPS, T_BELOW_ONE, open)
-                }
-                _ => leaving(s, to, T_BELOW_ONE, open),
-            },
-            Light::Directional { .. } => leaving(s, &d, f32::INFINITY, open),
-        };
+        let hit = light.blocks4(s, || light_c(j), to, open, leaving);
         out |= hit;
         open &= !hit;
     }

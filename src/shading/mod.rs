@@ -17,10 +17,12 @@ use crate::scene::{make_hit, Hit, Light, Scene};
 
 #[cfg(lanes)]
 mod lanes;
+mod lights;
 mod shadow;
 
 #[cfg(lanes)]
 pub(crate) use lanes::*;
+pub(crate) use lights::LightKind;
 pub use shadow::*;
 
 /// The local colour at a hit seen along `dir`: ambient plus every light for which
@@ -83,8 +85,8 @@ pub(crate) fn shade_lit_inline<const S: usize, const L: usize>(
         Vec3::ZERO
     };
     for (i, light) in scene.lights().iter().enumerate() {
-        let to = to_light(light, hit.anchor, hit.rel);
-        let l = unit_towards(light, to);
+        let to = light.to_light(hit.anchor, hit.rel);
+        let l = light.unit_towards(to);
         let nl = n.dot(l);
         if !(nl > 0.0) || blocked(i, light, to) {
             continue;

@@ -11,21 +11,10 @@ pub(super) const T_BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
 /// (within 32 radii of the light), see [`in_shadow`].
 pub(super) const NEAR_LIGHT: f32 = 1023.0;
 
-/// Where the light comes from at the hit point `anchor + rel` (see [`Hit::anchor`]): the
-/// vector from the hit to a point light (the shadow ray, `0 < t < 1`) or the unit vector
-/// towards a directional one.
-#[inline]
-pub(super) fn to_light(light: &Light, anchor: Vec3, rel: Vec3) -> Vec3 {
-    match *light {
-        Light::Point { position, .. } => (position - anchor) - rel,
-        Light::Directional { direction, .. } => -direction,
-    }
-}
-
 /// Below this `|v|²` (2⁻⁴⁰, as bits) a point light's shadow ray is scaled up by 2⁶⁴.
 pub(super) const SMALL_VV: u32 = (127 - 40) << 23;
 
-/// A point light's shadow ray: `v` (the test covers `0 < t < 1`, see [`to_light`]), `|v|²`
+/// A point light's shadow ray: `v` (the test covers `0 < t < 1`, see [`LightKind::to_light`]), `|v|²`
 /// and the largest t below 1, all three scaled by 2⁶⁴ (t by 2⁻⁶⁴) when `|v|² < 2⁻⁴⁰`. `v` is
 /// as small as the scene, and the tests multiply `|v|²` by squares of distances (`a c`,
 /// `a (|f|² + r²)`), which underflow from a scene of ~10⁻¹¹ (their margins from ~10⁻⁸):
@@ -46,25 +35,6 @@ pub(super) fn shadow_ray(v: Vec3) -> (Vec3, f32, f32) {
         const UP: f32 = 18_446_744_073_709_551_616.0;
         let v = v * UP;
         (v, v.dot(v), T_BELOW_ONE / UP)
-    }
-}
-
-/// The unit vector `l` along [`to_light`]'s `v`.
-#[inline]
-pub(super) fn unit_towards(light: &Light, v: Vec3) -> Vec3 {
-    match *light {
-        Light::Point { .. } => {
-            let ll = v.dot(v);
-            // |v|² overflows beyond ~10¹⁹ and underflows below ~10⁻¹⁹: then the guarded form
-            // (and no light at all from a light exactly at p). A bit test: on a Cortex-M4F
-            // cheaper than the float comparisons, as `vsqrt` takes the bits in a core register.
-            if crate::math::positive_normal(ll) {
-                v / crate::math::sqrt(ll)
-            } else {
-                v.normalized().unwrap_or(Vec3::ZERO)
-            }
-        }
-        Light::Directional { .. } => v,
     }
 }
 
@@ -99,7 +69,7 @@ pub fn in_shadow<const S: usize, const L: usize>(
         scene,
         hit,
         light,
-        to_light(light, hit.anchor, hit.rel),
+        light.to_light(hit.anchor, hit.rel),
         |j| from_light.and_then(|k| k.get(j)).map(|k| k.c),
         0..scene.spheres().len(),
     )
@@ -111,7 +81,8 @@ pub fn in_shadow<const S: usize, const L: usize>(
 /// the same bit for bit; only fewer spheres are asked. `light_c(j)`, for a point light, is
 /// `c = |light − m|² − r²` of [`Prepared::exact`] for sphere `j`: the rest of those constants is
 /// rebuilt exactly as `Prepared::exact` computes it, so a frame stores 4 bytes per light and
-/// sphere instead of 20. `v` is [`to_light`] of the hit, which shading has computed already.
+/// sphere instead of 20. `v` is [`LightKind::to_light`] of the hit, which shading has computed
+/// already.
 #[inline]
 pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
     scene: &Scene<S, L>,
@@ -122,45 +93,12 @@ pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
     candidates: impl Iterator<Item = usize>,
 ) -> bool {
     let spheres = scene.spheres();
-    // Rays leave the hit at `anchor + rel`, not at the rounded point: differences to other
-    // points stay accurate however far from the origin the scene is.
-    let (anchor, rel) = (hit.anchor, hit.rel);
+    // Rays leave the hit at `anchor + rel` (the light kinds' `blocked`), not at the rounded
+    // point: differences to other points stay accurate however far from the origin the scene is.
     // Its own sphere can block a ray only when the hit is seen from inside: from outside,
     // a light is asked about only when n·l > 0, and the ray heads out (`exit_root` is None, up
     // to the rounding of a ray that grazes the tangent plane, which is lit by a zero n·l).
     let inside = hit.normal.dot(hit.offset) < 0.0;
-    let blocks = |s, d, tmax| Prepared::leaving_blocks(anchor, rel, s, d, tmax);
-    let mut others = candidates.filter(|&j| j != hit.sphere);
-    match *light {
-        Light::Point { position, .. } => {
-            // `a`: `|d|²` for `d = −to_light`, the same bits. `t < 1` is `t ≤ below_one`.
-            let (to_light, a, below_one) = shadow_ray(v);
-            if inside && exit_root(hit.offset, to_light).is_some_and(|t| t <= below_one) {
-                return true;
-            }
-            let d = -to_light;
-            // `get`, not `[j]`: no bounds-check panic linked into the render path.
-            others.any(|j| {
-                let Some(s) = spheres.get(j) else {
-                    return false;
-                };
-                match light_c(j) {
-                    Some(c) if c <= NEAR_LIGHT * (s.radius * s.radius) => {
-                        let k = Prepared {
-                            f: position - s.center,
-                            c,
-                            r: s.radius,
-                        };
-                        k.hit_ab(d, a, k.f.dot(d), T_EPS, below_one).is_some()
-                    }
-                    _ => blocks(s, to_light, below_one),
-                }
-            })
-        }
-        Light::Directional { .. } => {
-            let l = v;
-            (inside && exit_root(hit.offset, l).is_some())
-                || others.any(|j| spheres.get(j).is_some_and(|s| blocks(s, l, f32::INFINITY)))
-        }
-    }
+    let others = candidates.filter(|&j| j != hit.sphere);
+    light.blocked(spheres, hit, inside, v, light_c, others)
 }
