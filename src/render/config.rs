@@ -28,6 +28,10 @@ pub(super) const OFFS: usize = if KEEPS_OFFSETS { SPAN * KEPT } else { 0 };
 /// Whether spans keep hit offsets (`OFFS` not zero), a flag so that Cortex-M builds, where
 /// `OFFS` is 0, test no comparison that is always false (clippy's `absurd_extreme_comparisons`).
 pub(super) const KEEPS_OFFSETS: bool = cfg!(lanes);
+/// Whether the scalar render path shades each stored primary hit inline in the pixel loop
+/// (`Frame::shade_stored`): the speed builds of Cortex-M. Not on hosts, whose lanes shade
+/// spans, nor in size builds (`cfg(size_opt)`), whose flash has no room for the second copy.
+pub(super) const INLINE_SHADING: bool = !cfg!(lanes) && !cfg!(size_opt);
 /// Whether scalar primary rays take the shorter test for an eye outside the sphere
 /// ([`Prepared::hit_outside`], the same answers as [`Prepared::hit`]): not in size builds
 /// (`cfg(size_opt)`), whose flash budget has no room for the second test.

@@ -232,12 +232,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let ray = Ray::new(self.camera.eye(), dir);
             // The scalar path's speed builds build the hit record where they shade it; hosts
             // and size builds go on below.
-            #[cfg(not(any(lanes, size_opt)))]
-            return self.shade_stored(&ray, t, s as usize, cull.lists_at(k));
+            if INLINE_SHADING {
+                return self.shade_stored(&ray, t, s as usize, cull.lists_at(k));
+            }
             // The hit record from (t, sphere): `make_hit` is a pure function of them. Its ray
             // built anew from the values, not read back from `ray`, which shading takes by
             // address: the direction and eye stay in registers, not copied out of memory.
-            #[allow(unreachable_code)]
             let first = if KEEPS_OFFSETS && SPHERE_MAJOR {
                 self.kept_hit(&ray, t, s as usize, k, cull)
             } else {

@@ -47,10 +47,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// [`Frame::shade_span4`]'s groups of four whose hits are not all on one sphere (an edge):
-    /// one lane pass per sphere, each keeping the lanes that hit it. Left to the scalar path,
-    /// such a group cost ~4× its lanes per pixel (a scene of 256 small spheres, 8% of its
-    /// pixels on edges, rendered 13% faster). Out of line, so that the common group's code
-    /// keeps its values in registers (inlined, the target scene took +10 instructions a pixel).
+    /// one lane pass per sphere, each keeping the lanes that hit it, rather than leaving such a
+    /// group to the scalar path pixel by pixel (scenes of many small spheres have many edges).
+    /// Out of line, so that the common group's code keeps its values in registers.
     #[cfg(lanes)]
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
@@ -79,8 +78,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// as `shade_span4` describes; the other lanes' values are meaningless. `None` where the
     /// scalar path must shade them (a mirror, a case `shade_lit4` leaves). `ALL`: all four lanes
     /// (the common group); a parameter so that the common group and `shade4_mixed` each get a
-    /// copy of their own, whose shadow-test closure is inlined (shared, it went out of line:
-    /// +5 x86 instructions a pixel).
+    /// copy of their own, whose shadow-test closure is inlined (shared, it goes out of line).
     #[cfg(lanes)]
     #[inline(always)]
     pub(super) fn shade4<const ALL: bool>(
@@ -175,12 +173,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
 
     /// The pixel of [`Frame::shade_from`] of [`Frame::eye_hit`]`(ray, t, s)`, a span's stored
     /// primary hit, with the hit record and the primary hit's shading inlined into the pixel
-    /// loop: the record stays in registers instead of going through memory to the out-of-line
-    /// `make_hit` and shading closure (M4F: 455.7 → 420.6 instructions a pixel at opt 3). The
-    /// same operations, so the same bits. A second copy of the shading (mirror bounces and the
-    /// other paths keep theirs): +2.7 KiB at "s", where it saved 34 instructions a pixel, so
-    /// not in size builds (`size_opt`, see build.rs), whose flash is budgeted.
-    #[cfg(not(any(lanes, size_opt)))]
+    /// loop (where [`INLINE_SHADING`]): the record stays in registers instead of going through
+    /// memory to the out-of-line `make_hit` and shading closure. The same functions
+    /// (`make_hit_inline`, `shade_lit_inline`), so the same bits; a second inlined copy of
+    /// their code, which the size builds have no flash for. M4F at opt 3: 398.0 instructions a
+    /// pixel with it, 428.7 without (`examples/firmware/run.sh m4f`); CI renders the host's
+    /// scenes through this path too (`MICRORAY_HOST_AS=m4f`).
     #[inline(always)]
     pub(super) fn shade_stored(
         &self,
@@ -203,8 +201,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let colour = crate::shading::shade_lit_inline(scene, &h, d, |i, light, v| {
             self.blocked(&h, lists, i, light, v)
         });
-        // Encoded on each path: a colour merged from the bounces' out-of-line return went
-        // through memory (M4F: ~12 instructions a pixel).
+        // Encoded on each path: a colour merged from the bounces' out-of-line return would go
+        // through memory.
         if !scene.has_mirrors() {
             return self.encode(colour);
         }
@@ -261,7 +259,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         v: Vec3,
     ) -> bool {
         // Span lists exist only with shadow rays (`Cull::culled`): with some, the scene's flag
-        // is not read (M4F: 481.6 → 475.3 instructions a pixel).
+        // is not read.
         if lists.is_none() && !self.scene.shadows() {
             return false;
         }
@@ -271,8 +269,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if lists.is_some_and(|l| l.is_empty(i)) && !(hit.normal.dot(hit.offset) < 0.0) {
             return false;
         }
-        // The slice's own test, which the range's has decided wherever a list exists; left in,
-        // as without it the M4F took +6 instructions a pixel (register allocation).
+        // The slice's own test, which the range's has decided wherever a list exists; left in
+        // for the register allocation of the Cortex-M shading loop.
         let cands = self.candidates(lists, i);
         if cands.is_empty() && !(hit.normal.dot(hit.offset) < 0.0) {
             return false;
@@ -286,11 +284,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// constants.
     ///
     /// Out of line on Cortex-M: `blocked` returns before it for most pixels (no candidate), and
-    /// inlined into the shading loop its registers made that loop keep more of its values on
-    /// the stack (M4F: 587.6 → 581.5 instructions a pixel; "s": 696.6 → 686.3). `v` as three
-    /// floats, which go in registers: a `Vec3` went by address, and the shading loop stored it
-    /// for every lit light before asking whether the test is needed (M4F: 413.2 → 406.4; "s":
-    /// 517.0 → 509.4, 60 bytes smaller).
+    /// inlined into the shading loop its registers would make that loop keep more of its values
+    /// on the stack. `v` as three floats, which go in registers: a `Vec3` goes by address, and
+    /// the shading loop would store it for every lit light before asking whether the test is
+    /// needed.
     #[cfg_attr(lanes, inline(always))]
     #[cfg_attr(not(lanes), inline(never))]
     pub(super) fn shadow_test(

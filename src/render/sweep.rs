@@ -29,8 +29,8 @@ pub(super) struct Sweep<const S: usize> {
     pub(super) hw_max: f32,
     /// Where a scan starts: `start[b]` counts the sorted entries whose [`Sweep::bucket`] is
     /// below `b` (one more than the buckets, the last the number of entries), so that a
-    /// search for a key needs only its bucket's few entries. The binary search over all of
-    /// them, a chain of dependent loads, was a third of the scan's time at 256 spheres.
+    /// search for a key needs only its bucket's few entries, not a binary search over all of
+    /// them (a chain of dependent loads).
     pub(super) start: List<S>,
     /// The smallest key, and buckets per unit of key (zero: one bucket).
     pub(super) k_lo: f32,
@@ -172,8 +172,8 @@ impl<const S: usize> Sweep<S> {
     }
 
     /// An index at or before [`Sweep::first`]`(x)`, and at most 8 entries before it: its
-    /// bucket's start where the bucket is that small (a search there cost more, in
-    /// mispredicted branches, than scanning its keys in lanes: 2% of the 256-sphere frame).
+    /// bucket's start where the bucket is that small (a search there costs more, in
+    /// mispredicted branches, than scanning its keys in lanes).
     #[inline(always)]
     pub(super) fn near_first(&self, x: f32) -> usize {
         let b = self.bucket(x);
