@@ -107,24 +107,7 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
         if first_row as usize + rows > self.height() as usize {
             return Err(Error::BufferSize);
         }
-        // Hosts: tile by tile, as `render_rows` traces them.
-        #[cfg(lanes)]
-        let _ = self.tile_rows(first_row, rows as u32, |t| {
-            let out = t.place(buf, first_row, w);
-            for (k, (o, &c)) in out.iter_mut().zip(t.px).enumerate() {
-                *o = dither_rgb565(c, t.i + k as u32, t.j);
-            }
-            Ok::<(), core::convert::Infallible>(())
-        });
-        #[cfg(not(lanes))]
-        for (r, row) in buf.chunks_exact_mut(w).enumerate() {
-            let j = first_row + r as u32;
-            // Traced row by row with the renderer's culling (the same pixels as `pixel`).
-            let mut pixels = self.row(j);
-            for (i, (px, c)) in row.iter_mut().zip(pixels.by_ref()).enumerate() {
-                *px = dither_rgb565(c, i as u32, j);
-            }
-        }
+        dither_rows(self, first_row, buf, (w, rows as u32));
         Ok(rows as u32)
     }
 
@@ -159,6 +142,42 @@ impl<const S: usize, const L: usize> Frame<'_, S, L> {
             target.fill_contiguous(&row, colours)?;
         }
         Ok(())
+    }
+}
+
+/// [`Frame::render_rows_dithered`]'s rows from `first_row` into `buf` (whole rows of `w`
+/// pixels): on hosts tile by tile, as `render_rows` traces them.
+#[cfg(lanes)]
+fn dither_rows<const S: usize, const L: usize>(
+    frame: &Frame<'_, S, L>,
+    first_row: u32,
+    buf: &mut [Rgb565],
+    (w, rows): (usize, u32),
+) {
+    let _ = frame.tile_rows(first_row, rows, |t| {
+        let out = t.place(buf, first_row, w);
+        for (k, (o, &c)) in out.iter_mut().zip(t.px).enumerate() {
+            *o = dither_rgb565(c, t.i + k as u32, t.j);
+        }
+        Ok::<(), core::convert::Infallible>(())
+    });
+}
+
+/// [`Frame::render_rows_dithered`]'s rows from `first_row` into `buf` (whole rows of `w`
+/// pixels): on Cortex-M row by row with the renderer's culling (the same pixels as `pixel`).
+#[cfg(not(lanes))]
+fn dither_rows<const S: usize, const L: usize>(
+    frame: &Frame<'_, S, L>,
+    first_row: u32,
+    buf: &mut [Rgb565],
+    (w, _rows): (usize, u32),
+) {
+    for (r, row) in buf.chunks_exact_mut(w).enumerate() {
+        let j = first_row + r as u32;
+        let mut pixels = frame.row(j);
+        for (i, (px, c)) in row.iter_mut().zip(pixels.by_ref()).enumerate() {
+            *px = dither_rgb565(c, i as u32, j);
+        }
     }
 }
 

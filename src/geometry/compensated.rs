@@ -61,10 +61,22 @@ pub(super) fn c_near_xyz<const OFFSET: bool>(
     mz: f32,
     radius: f32,
 ) -> f32 {
-    #[cfg(lanes)]
-    return c_near_across::<OFFSET>([bx, by, bz], [ox, oy, oz], [mx, my, mz], radius);
-    #[cfg(not(lanes))]
-    c_near_of::<f32, OFFSET>([bx, by, bz], [ox, oy, oz], [mx, my, mz], radius)
+    c_near_target::<OFFSET>([bx, by, bz], [ox, oy, oz], [mx, my, mz], radius)
+}
+
+/// [`c_near_of`] as this target computes it fastest, the same bits: across vector lanes on
+/// hosts ([`c_near_across`]).
+#[cfg(lanes)]
+#[inline(always)]
+fn c_near_target<const OFFSET: bool>(b: [f32; 3], o: [f32; 3], m: [f32; 3], radius: f32) -> f32 {
+    c_near_across::<OFFSET>(b, o, m, radius)
+}
+
+/// [`c_near_of`] as this target computes it: one f32 at a time, without lanes.
+#[cfg(not(lanes))]
+#[inline(always)]
+fn c_near_target<const OFFSET: bool>(b: [f32; 3], o: [f32; 3], m: [f32; 3], radius: f32) -> f32 {
+    c_near_of::<f32, OFFSET>(b, o, m, radius)
 }
 
 /// [`c_near_of`] for one origin with the coordinates in vector lanes (hosts, `cfg(lanes)`): the

@@ -132,18 +132,32 @@ impl Prepared {
     /// ```
     #[inline]
     pub fn hit4(&self, d: &[Vec3; 4], tmin: f32, tmax: [f32; 4]) -> [Option<f32>; 4] {
-        #[cfg(lanes)]
-        if finite(self.c) {
-            let h = self.hit_lanes_of(d, tmin, tmax);
-            return core::array::from_fn(|l| {
-                if h.redo & (1 << l) != 0 {
-                    self.hit(d[l], tmin, tmax[l])
-                } else {
-                    (h.hit & (1 << l) != 0).then_some(h.t[l])
-                }
-            });
+        self.hit4_lanes(d, tmin, tmax)
+            .unwrap_or_else(|| core::array::from_fn(|l| self.hit(d[l], tmin, tmax[l])))
+    }
+
+    /// [`Prepared::hit4`] in the lanes of one vector, where there are lanes and `c` is finite.
+    #[cfg(lanes)]
+    #[inline(always)]
+    fn hit4_lanes(&self, d: &[Vec3; 4], tmin: f32, tmax: [f32; 4]) -> Option<[Option<f32>; 4]> {
+        if !finite(self.c) {
+            return None;
         }
-        core::array::from_fn(|l| self.hit(d[l], tmin, tmax[l]))
+        let h = self.hit_lanes_of(d, tmin, tmax);
+        Some(core::array::from_fn(|l| {
+            if h.redo & (1 << l) != 0 {
+                self.hit(d[l], tmin, tmax[l])
+            } else {
+                (h.hit & (1 << l) != 0).then_some(h.t[l])
+            }
+        }))
+    }
+
+    /// No lanes here: [`Prepared::hit4`] tests one direction after another.
+    #[cfg(not(lanes))]
+    #[inline(always)]
+    fn hit4_lanes(&self, _: &[Vec3; 4], _: f32, _: [f32; 4]) -> Option<[Option<f32>; 4]> {
+        None
     }
 
     /// Which of the lanes `ask` of four directions (by coordinate) `hit` finds a root for in

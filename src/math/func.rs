@@ -11,14 +11,21 @@
 /// ```
 #[inline]
 pub fn sqrt(x: f32) -> f32 {
-    #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
-    {
-        hw::vsqrt(x)
-    }
-    #[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
-    {
-        libm::sqrtf(x)
-    }
+    target_sqrt(x)
+}
+
+/// [`sqrt`] on a Cortex-M4F/M7: the instruction.
+#[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+#[inline(always)]
+fn target_sqrt(x: f32) -> f32 {
+    hw::vsqrt(x)
+}
+
+/// [`sqrt`] elsewhere: libm's correctly rounded routine.
+#[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+#[inline(always)]
+fn target_sqrt(x: f32) -> f32 {
+    libm::sqrtf(x)
 }
 
 #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]

@@ -228,28 +228,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
                 let start = cull.pool.len() as u16;
                 let spheres = self.scene.spheres();
-                let mut full = false;
-                // Hosts collect the candidates first and weigh them four at a time.
-                #[cfg(lanes)]
-                let mut found: List<S> = heapless::Vec::new();
+                let mut blockers = Blockers::new(light, spheres, q, rho, &mut cull.pool);
                 let mut consider = |s: u16| {
                     // Not a group's own sphere: the shadow test skips the hit's sphere among
                     // its candidates (it finds the ray's exit from it analytically), so listing
                     // it would only cost a skip per pixel. `REST` is no sphere index (`FITS`).
-                    if s == group.sphere {
-                        return;
-                    }
-                    #[cfg(lanes)]
-                    if found.push(s).is_err() {
-                        full = true;
-                    }
-                    #[cfg(not(lanes))]
-                    if let Some(sphere) = spheres.get(s as usize) {
-                        if light.may_block(sphere.center, sphere.radius, q, rho)
-                            && cull.pool.push(s).is_err()
-                        {
-                            full = true;
-                        }
+                    if s != group.sphere {
+                        blockers.consider(s);
                     }
                 };
                 let band = match self.tables.sweeps.get(li) {
@@ -270,19 +255,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         }
                     }
                 }
-                #[cfg(lanes)]
-                for c in found.chunks(4) {
-                    let ids: [u16; 4] = core::array::from_fn(|l| c.get(l).copied().unwrap_or(NONE));
-                    let sph = ids.map(|i| spheres.get(i as usize).copied());
-                    let m = sph.map(|s| s.map_or(Vec3::ZERO, |s| s.center));
-                    let r = sph.map(|s| s.map_or(0.0, |s| s.radius));
-                    let pass = light.may_block4(m, r, q, rho);
-                    for (l, &i) in ids.iter().enumerate() {
-                        if pass & (1 << l) != 0 && sph[l].is_some() && cull.pool.push(i).is_err() {
-                            full = true;
-                        }
-                    }
-                }
+                let full = blockers.finish();
                 if full {
                     // Out of room: this light tests every sphere for this group.
                     cull.pool.truncate(start as usize);

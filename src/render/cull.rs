@@ -20,8 +20,9 @@ pub(super) const ALL: (u16, u16) = (u16::MAX, 0);
 #[cfg_attr(not(lanes), repr(C))]
 pub(super) struct Cull<const S: usize, const L: usize> {
     pub(super) hit_t: [f32; SPAN * KEPT],
-    #[cfg(not(lanes))]
-    pub(super) hit_d: [Vec3; DIRS],
+    /// What the render path keeps besides (`lanes.rs`, `scalar.rs`): the view directions, and on
+    /// hosts the span's shaded pixels and the tile's rows.
+    pub(super) path: PathState,
     pub(super) hit_s: [u16; SPAN * KEPT],
     /// Where `culled`, the hit group of each slot's hit (`NO_GROUP`: none), whose shadow lists
     /// shading takes without searching the groups for the hit's sphere.
@@ -38,39 +39,20 @@ pub(super) struct Cull<const S: usize, const L: usize> {
     /// Shadow lists are valid for this span.
     pub(super) culled: bool,
     /// `hit_t`, `hit_s` hold the span's primary hits (one sample per pixel) as `t` and sphere
-    /// (`NONE`: no hit), and `hit_d` (see [`DIRS`]) the direction of each hit's view ray: 6 or
+    /// (`NONE`: no hit), and `path`'s directions (see [`DIRS`]) the direction of each hit's view ray: 6 or
     /// 18 bytes a pixel, for microcontroller stacks.
     pub(super) stored: bool,
     /// The same for every sample of a supersampled span, sample `m` of pixel `k` in slot
     /// `m·SPAN + k` (see [`KEPT`]). Apart from `stored` so that a pixel of one sample tests one
     /// flag, not also the sample count.
     pub(super) kept: bool,
-    /// On hosts, the directions by coordinate (x, y, z), padded to whole lanes past the last
-    /// slot: traced and shaded four columns at a time, a lane group is one load per
-    /// coordinate (`Vec3`s would be transposed both ways).
-    #[cfg(lanes)]
-    pub(super) hit_dc: [[f32; DPAD]; 3],
     /// Where `culled`, each kept hit's point and offset from its sphere's centre, which the
     /// span's bounds take and shading reuses (see [`OFFS`]); the offset only for spheres
     /// beyond near2 (`Frame::offset_near`), whose offsets cost more than `f + t·d`.
     pub(super) hit_p: [Vec3; OFFS],
     pub(super) hit_o: [Vec3; OFFS],
-    /// On hosts with f32 vectors (`cfg(lanes)`), the span's pixels that `Frame::shade_span4`
-    /// shaded four at a time or found to be misses (bit `k` for pixel `k`), and all the span's
-    /// pixels once `Frame::fill_span` has shaded the rest.
-    #[cfg(lanes)]
-    pub(super) done: u32,
-    #[cfg(lanes)]
-    pub(super) px: [Rgb888; SPAN],
     /// The pixel of every primary ray that hits nothing.
     pub(super) miss: Rgb888,
-    /// On hosts, the rows a span gathers at once (`Frame::render_rows` with one sample a
-    /// pixel and shadow rays: up to `KEPT`), row `r`'s hits in slots `r·SPAN + k`, and the
-    /// first slot of the row being shaded.
-    #[cfg(lanes)]
-    pub(super) rows: u32,
-    #[cfg(lanes)]
-    pub(super) base: usize,
 }
 
 impl<const S: usize, const L: usize> Cull<S, L> {
@@ -91,40 +73,11 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             hit_t: [0.0; SPAN * KEPT],
             hit_s: [0; SPAN * KEPT],
             hit_g: [0; SPAN * KEPT],
-            #[cfg(not(lanes))]
-            hit_d: [Vec3::ZERO; DIRS],
-            #[cfg(lanes)]
-            hit_dc: [[0.0; DPAD]; 3],
+            path: PathState::new(),
             hit_p: [Vec3::ZERO; OFFS],
             hit_o: [Vec3::ZERO; OFFS],
-            #[cfg(lanes)]
-            done: 0,
-            #[cfg(lanes)]
-            px: [Rgb888::new(0, 0, 0); SPAN],
             miss: Rgb888::new(0, 0, 0),
-            #[cfg(lanes)]
-            rows: 1,
-            #[cfg(lanes)]
-            base: 0,
         }
-    }
-
-    /// The rows the span gathers at once (1 on Cortex-M).
-    #[inline(always)]
-    pub(super) fn rows(&self) -> u32 {
-        #[cfg(lanes)]
-        return self.rows;
-        #[cfg(not(lanes))]
-        1
-    }
-
-    /// The slot of pixel `k` of the row being shaded.
-    #[inline(always)]
-    pub(super) fn slot(&self, k: usize) -> usize {
-        #[cfg(lanes)]
-        return self.base + k;
-        #[cfg(not(lanes))]
-        k
     }
 
     /// The stored primary hit of the span's pixel `k`, as `(t, sphere)`.
@@ -133,40 +86,6 @@ impl<const S: usize, const L: usize> Cull<S, L> {
         match (self.hit_t.get(k), self.hit_s.get(k)) {
             (Some(&t), Some(&s)) if s != NONE => Some((t, s)),
             _ => None,
-        }
-    }
-
-    /// Pixels in the current span (the lane paths').
-    #[cfg(lanes)]
-    #[inline(always)]
-    pub(super) fn span_len(&self) -> usize {
-        ((self.span_end - self.span_start) as usize).min(SPAN)
-    }
-
-    /// The view direction kept in slot `k` (none where `DIRS` keeps none).
-    #[inline(always)]
-    pub(super) fn dir(&self, k: usize) -> Option<Vec3> {
-        #[cfg(lanes)]
-        {
-            let [x, y, z] = &self.hit_dc;
-            Some(Vec3::new(*x.get(k)?, *y.get(k)?, *z.get(k)?))
-        }
-        #[cfg(not(lanes))]
-        self.hit_d.get(k).copied()
-    }
-
-    /// Keeps `d` as the view direction of slot `k`, where there is room.
-    #[inline(always)]
-    pub(super) fn set_dir(&mut self, k: usize, d: Vec3) {
-        #[cfg(lanes)]
-        for (a, v) in self.hit_dc.iter_mut().zip([d.x, d.y, d.z]) {
-            if let Some(a) = a.get_mut(k) {
-                *a = v;
-            }
-        }
-        #[cfg(not(lanes))]
-        if let Some(a) = self.hit_d.get_mut(k) {
-            *a = d;
         }
     }
 

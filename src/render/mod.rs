@@ -48,8 +48,12 @@ mod candidates;
 mod config;
 mod cull;
 mod encode;
+#[cfg(lanes)]
+mod lanes;
 mod primary;
 mod rows;
+#[cfg(not(lanes))]
+mod scalar;
 mod shade;
 mod storage;
 mod sweep;
@@ -60,7 +64,11 @@ use candidates::*;
 use config::*;
 use cull::*;
 pub use encode::*;
+#[cfg(lanes)]
+use lanes::{Blockers, PathState};
 pub use rows::*;
+#[cfg(not(lanes))]
+use scalar::{Blockers, PathState};
 pub use storage::*;
 use sweep::*;
 

@@ -142,20 +142,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         self.start_miss(cull);
     }
 
-    /// [`Frame::start_row`] for the `n` rows from `j` that a span gathers at once (a tile,
-    /// `Cull::rows`): their spheres are those whose box crosses any of them.
-    #[cfg(lanes)]
-    pub(super) fn start_rows(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
-        cull.row.clear();
-        for (s, b) in self.tables.boxes.iter().enumerate() {
-            if (j..j + n).any(|r| b.has_row(r)) {
-                let _ = cull.row.push(s as u16);
-            }
-        }
-        cull.rows = n;
-        self.start_miss(cull);
-    }
-
     /// The rest of starting rows: no span yet, and the pixel of every ray that misses.
     #[inline(always)]
     pub(super) fn start_miss(&self, cull: &mut Cull<S, L>) {
@@ -176,14 +162,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if i >= cull.span_end {
             self.start_span(j, i, cull);
         }
-        #[cfg(lanes)]
-        {
-            // Hosts shade the whole span at its start (`fill_span`).
-            let k = (i - cull.span_start) as usize;
-            cull.px.get(k).copied().unwrap_or(cull.miss)
-        }
-        #[cfg(not(lanes))]
-        self.span_pixel(j, i, cull)
+        self.span_output(j, i, cull)
     }
 
     /// Starts the span of row `j` at column `i`: its candidates, hits and bounds
@@ -193,27 +172,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         cull.span_start = i;
         cull.span_end = (i + SPAN as u32).min(self.width());
         self.gather(j, cull);
-        #[cfg(lanes)]
-        self.fill_span(j, cull);
-    }
-
-    /// Every pixel of the span just gathered into `cull.px`: groups of four in lanes
-    /// (`shade_span4`), the others one by one, so that the pixel loop only reads them.
-    #[cfg(lanes)]
-    #[inline(never)]
-    pub(super) fn fill_span(&self, j: u32, cull: &mut Cull<S, L>) {
-        cull.done = 0;
-        if cull.stored {
-            self.shade_span4(cull);
-        }
-        let len = cull.span_len();
-        let span = if len >= 32 { u32::MAX } else { (1 << len) - 1 };
-        for k in crate::simd::ones(!cull.done & span) {
-            let c = self.span_pixel(j, cull.span_start + k as u32, cull);
-            if let Some(p) = cull.px.get_mut(k) {
-                *p = c;
-            }
-        }
+        self.span_gathered(j, cull);
     }
 
     /// Pixel `(i, j)` of the span gathered in `cull`, shaded on its own.
@@ -295,68 +254,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         buf: &mut [C],
     ) -> Result<u32, Error> {
         let rows = self.check_rows(first_row, buf.len())?;
-        let w = self.width() as usize;
-        // Hosts: tile by tile (`tile_rows`).
-        #[cfg(lanes)]
-        let _ = self.tile_rows(first_row, rows, |t: TileRow<'_>| {
-            for (o, &p) in t.place(buf, first_row, w).iter_mut().zip(t.px) {
-                *o = p.into();
-            }
-            Ok::<(), core::convert::Infallible>(())
-        });
-        // Cortex-M: row by row, as `Row` does.
-        #[cfg(not(lanes))]
-        {
-            let mut cull = Cull::new();
-            for (r, row) in buf.chunks_exact_mut(w).enumerate() {
-                let j = first_row + r as u32;
-                for (i, px) in row.iter_mut().enumerate() {
-                    *px = self.next_pixel(j, i as u32, &mut cull).into();
-                }
-            }
-        }
+        self.rows_into(first_row, rows, buf);
         Ok(rows)
-    }
-
-    /// Rows `first ..first + n` as hosts trace them: span by span, each span shaded whole by
-    /// `fill_span`, and with one sample a pixel and shadow rays `KEPT` (8) rows at a time (a
-    /// tile), whose hits the sample slots hold: one set of shadow lists for the tile's groups
-    /// instead of one per row. A tile's bounds are barely larger than a row's (a span is 32
-    /// pixels wide), so its lists are barely longer. `out` gets each row of each span of each
-    /// tile in turn; its first error ends it.
-    #[cfg(lanes)]
-    pub(crate) fn tile_rows<E>(
-        &self,
-        first: u32,
-        n: u32,
-        mut out: impl FnMut(TileRow<'_>) -> Result<(), E>,
-    ) -> Result<(), E> {
-        let tile = if self.samples == 1 && self.shadow_rays {
-            KEPT as u32
-        } else {
-            1
-        };
-        let end = (first + n).min(self.height());
-        let mut cull = Cull::new();
-        let mut j = first;
-        while j < end {
-            let rows = tile.min(end - j);
-            self.start_rows(j, rows, &mut cull);
-            for m in 0..self.width().div_ceil(SPAN as u32) {
-                let i = m * SPAN as u32;
-                cull.span_start = i;
-                cull.span_end = (i + SPAN as u32).min(self.width());
-                self.gather(j, &mut cull);
-                for r in 0..rows {
-                    cull.base = r as usize * SPAN;
-                    self.fill_span(j + r, &mut cull);
-                    let px = cull.px.get(..cull.span_len()).unwrap_or(&[]);
-                    out(TileRow { i, j: j + r, px })?;
-                }
-            }
-            j += rows;
-        }
-        Ok(())
     }
 
     /// [`Frame::render_rows`] the brute-force way, every ray against every sphere: the
@@ -422,25 +321,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             return Err(Error::BufferSize);
         }
         self.render_rows(0, buf).map(|_| ())
-    }
-}
-
-/// One row of one span of a tile (see [`Frame::tile_rows`]): the pixels `(i.., j)`.
-#[cfg(lanes)]
-pub(crate) struct TileRow<'p> {
-    pub(crate) i: u32,
-    pub(crate) j: u32,
-    pub(crate) px: &'p [Rgb888],
-}
-
-#[cfg(lanes)]
-impl TileRow<'_> {
-    /// Where these pixels go in `buf`, whole rows of `w` pixels from row `first_row`: the rest
-    /// of `buf` from pixel `(i, j)` (empty past its end).
-    #[inline(always)]
-    pub(crate) fn place<'b, C>(&self, buf: &'b mut [C], first_row: u32, w: usize) -> &'b mut [C] {
-        let at = (self.j - first_row) as usize * w + self.i as usize;
-        buf.get_mut(at..).unwrap_or(&mut [])
     }
 }
 

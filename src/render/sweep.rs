@@ -225,40 +225,11 @@ impl<const S: usize> Sweep<S> {
         let (hi, n) = (key + band, self.key.len());
         // Within a few entries of the first key ≥ key − band: the keys before that are more
         // than `band` from `key` but for rounding, and the filter below decides them.
-        let mut i = self.near_first(key - band);
-        // Hosts: four entries at a time, the same comparisons lane by lane; the keys are sorted,
-        // so the entries within the band are a prefix of the four.
-        #[cfg(lanes)]
-        {
-            use crate::simd::{bits, ones, F};
-            use wide::CmpLe;
-            fn from(v: &[f32], i: usize) -> &[f32] {
-                v.get(i..).unwrap_or(&[])
-            }
-            let (ks, hs, k2s) = (from(&self.key, i), from(&self.half, i), from(&self.key2, i));
-            let ss = self.sphere.get(i..).unwrap_or(&[]);
-            let quads = ks.chunks_exact(4).zip(hs.chunks_exact(4));
-            for ((k, h), (k2, s)) in quads.zip(k2s.chunks_exact(4).zip(ss.chunks_exact(4))) {
-                let four = |c: &[f32]| <[f32; 4]>::try_from(c).ok().map(F::from);
-                let (Some(k), Some(h), Some(k2)) = (four(k), four(h), four(k2)) else {
-                    break;
-                };
-                let near = h + F::splat(slack);
-                let within = k.cmp_le(F::splat(hi));
-                let keep = within
-                    & (k - F::splat(key)).abs().cmp_le(near)
-                    & (k2 - F::splat(key2)).abs().cmp_le(near);
-                for l in ones(bits(keep)) {
-                    if let Some(&s) = s.get(l) {
-                        consider(s);
-                    }
-                }
-                if bits(within) != 0b1111 {
-                    return;
-                }
-                i += 4;
-            }
-        }
+        let i = self.near_first(key - band);
+        // Hosts first take four entries at a time (`Sweep::scan_lanes`); `None`: done.
+        let Some(mut i) = self.scan_lanes(i, hi, key, slack, key2, consider) else {
+            return;
+        };
         while i < n {
             let (Some(&k), Some(&h), Some(&k2), Some(&s)) = (
                 self.key.get(i),

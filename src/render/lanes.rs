@@ -1,0 +1,713 @@
+//! The host render path (`cfg(lanes)`: x86-64, AArch64 with NEON): a span's primary rays traced
+//! and its pixels shaded four columns at a time in vector lanes, and with one sample a pixel and
+//! shadow rays, tiles of `KEPT` rows that share their shadow lists. Each lane does the scalar
+//! path's operations in its order, so the pixels are those of `scalar.rs`, the Cortex-M path.
+
+use super::*;
+
+impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
+    /// The closest primary hits of the span's pixels `i0..i1` for one sample (`ox`, row
+    /// coordinate `y`) into the slots `base..`: view directions in `hit_d`, `(t, sphere)` in
+    /// `hit_t`/`hit_s` (`NONE`: a miss). Sphere by sphere in scene order, each over the columns of
+    /// its box: every pixel sees its candidates in the order and with the `tmax` of
+    /// [`Frame::primary_among`], so the hits are its hits, bit for bit, while a sphere's
+    /// constants and box stay in registers across its columns.
+    #[inline]
+    pub(super) fn trace_span(
+        &self,
+        i0: u32,
+        i1: u32,
+        ox: f32,
+        (row, y): (u32, f32),
+        base: usize,
+        cull: &mut Cull<S, L>,
+    ) {
+        // Hosts with f32 vector registers: `LANES` columns at a time, and with shadow rays the
+        // hit points for the span's bounds too.
+        const PAD: usize = SPAN + crate::geometry::LANES - 1;
+        let len = (i1 - i0) as usize;
+        let [dx, dy, dz] = &mut cull.path.hit_dc;
+        fn lanes<const N: usize>(a: &mut [f32; DPAD], base: usize) -> Option<&mut [f32; N]> {
+            a.get_mut(base..base + N)?.try_into().ok()
+        }
+        let (Some(ts), Some(ss), Some(ps), Some(os)) = (
+            cull.hit_t.get_mut(base..base + len),
+            cull.hit_s.get_mut(base..base + len),
+            cull.hit_p.get_mut(base..base + len),
+            cull.hit_o.get_mut(base..base + len),
+        ) else {
+            return;
+        };
+        let (Some(dx), Some(dy), Some(dz)) = (
+            lanes::<PAD>(dx, base),
+            lanes::<PAD>(dy, base),
+            lanes::<PAD>(dz, base),
+        ) else {
+            return;
+        };
+        let points = self.shadow_rays.then_some((ps, os));
+        self.trace_lanes(
+            [dx, dy, dz],
+            ts,
+            ss,
+            points,
+            &cull.span,
+            (i0, i1, ox, y, row),
+        );
+    }
+
+    /// `trace_span` `LANES` columns at a time: the view directions
+    /// ([`Camera::directions4`]) and the sphere loop ([`Prepared::hit_lanes`]), the same
+    /// operations and tests in the same order, so the same directions and hits. The directions
+    /// go to the span's arrays by coordinate (`Cull::hit_dc`), padded to whole lanes: their
+    /// lanes past the span hold whatever they held, which only lanes that are not the span's
+    /// read.
+    #[inline(always)]
+    pub(super) fn trace_lanes<const PAD: usize>(
+        &self,
+        [dx, dy, dz]: [&mut [f32; PAD]; 3],
+        ts: &mut [f32],
+        ss: &mut [u16],
+        points: Option<(&mut [Vec3], &mut [Vec3])>,
+        span: &[u16],
+        (i0, i1, ox, y, row): (u32, u32, f32, f32, u32),
+    ) {
+        use crate::geometry::LANES;
+        use crate::math::finite;
+        use crate::simd::F;
+        let (mut t, mut sp) = ([f32::INFINITY; PAD], [NONE; PAD]);
+        let len = ts.len().min(SPAN);
+        let lane = F::from(core::array::from_fn(|l| l as f32));
+        for m in (0..len).step_by(LANES) {
+            // `primary_ray(i, j, sx, sy, n)`: pixel column i at `i + ox`. Columns (below
+            // `MAX_SIZE` + `LANES`) are exact in f32, so the lanes' `(i0 + m) + l` is each
+            // column converted, in one conversion instead of four.
+            let x = F::splat((i0 + m as u32) as f32) + lane;
+            let x = (x + F::splat(ox)).to_array();
+            let [x, y, z] = self.camera.directions4(x, y);
+            let lanes = m..m + LANES;
+            if let (Some(a), Some(b), Some(c)) = (
+                dx.get_mut(lanes.clone()),
+                dy.get_mut(lanes.clone()),
+                dz.get_mut(lanes),
+            ) {
+                a.copy_from_slice(&x);
+                b.copy_from_slice(&y);
+                c.copy_from_slice(&z);
+            }
+        }
+        for &sphere in span {
+            let (Some(b), Some(k)) = (
+                self.tables.boxes.get(sphere as usize),
+                self.tables.eye.get(sphere as usize),
+            ) else {
+                continue;
+            };
+            // A tile's span lists the spheres of all its rows; the box holds every hit.
+            if !b.has_row(row) {
+                continue;
+            }
+            let lo = ((b.i0 as u32).max(i0) - i0) as usize;
+            let hi = ((b.i1 as u32 + 1).min(i1).saturating_sub(i0) as usize).min(SPAN);
+            if !finite(k.c) {
+                // Overflowing constants: the scalar path, whose scaled roots handle them.
+                for m in lo..hi {
+                    let d = Vec3::new(dx[m], dy[m], dz[m]);
+                    if let Some(hit) = k.hit(d, T_EPS, t[m]) {
+                        (t[m], sp[m]) = (hit, sphere);
+                    }
+                }
+                continue;
+            }
+            let hb = k.hearn_baker();
+            let mut m = lo;
+            while m < hi {
+                let lanes = |a: &[f32; PAD]| -> [f32; LANES] {
+                    core::array::from_fn(|l| a.get(m + l).copied().unwrap_or(0.0))
+                };
+                let (x, y, z, tm) = (lanes(dx), lanes(dy), lanes(dz), lanes(&t));
+                let h = k.hit_lanes(hb, x, y, z, T_EPS, tm);
+                // Lanes past the box's last column are not its to change.
+                let valid = if hi - m >= LANES {
+                    (1 << LANES) - 1
+                } else {
+                    (1u32 << (hi - m)) - 1
+                };
+                let (hit, redo) = (h.hit & valid, h.redo & valid);
+                for l in 0..LANES {
+                    if hit & (1 << l) != 0 {
+                        if let (Some(tt), Some(ss)) = (t.get_mut(m + l), sp.get_mut(m + l)) {
+                            (*tt, *ss) = (h.t[l], sphere);
+                        }
+                    }
+                }
+                if redo != 0 {
+                    for l in 0..LANES {
+                        if redo & (1 << l) != 0 {
+                            let q = m + l;
+                            let d = Vec3::new(dx[q], dy[q], dz[q]);
+                            if let Some(hit) = k.hit(d, T_EPS, t[q]) {
+                                (t[q], sp[q]) = (hit, sphere);
+                            }
+                        }
+                    }
+                }
+                m += LANES;
+            }
+        }
+        for (k, (tt, s)) in ts.iter_mut().zip(ss.iter_mut()).enumerate().take(SPAN) {
+            (*tt, *s) = (t[k], sp[k]);
+        }
+        if let Some((ps, os)) = points {
+            self.hit_points_lanes(ps, os, (dx, dy, dz), &t, &sp);
+        }
+    }
+
+    /// `hit_point_within` of every hit of a span (its point and offset, as `make_hit` and the
+    /// span's bounds compute them) into `ps` and `os`: four at a time where four neighbouring
+    /// columns hit one sphere on `f + t·d`'s side of `near2` (the same operations lane by lane,
+    /// so the same bits; the offset, `f + t·d`, is not stored there), else one by one.
+    #[inline(always)]
+    pub(super) fn hit_points_lanes<const PAD: usize>(
+        &self,
+        ps: &mut [Vec3],
+        os: &mut [Vec3],
+        (dx, dy, dz): (&[f32; PAD], &[f32; PAD], &[f32; PAD]),
+        t: &[f32; PAD],
+        sp: &[u16; PAD],
+    ) {
+        use crate::geometry::{hit_point_far4, LANES};
+        use wide::f32x4 as F;
+        let eye = self.camera.eye();
+        let spheres = self.scene.spheres();
+        let one = |m: usize, ps: &mut [Vec3], os: &mut [Vec3]| {
+            let s = sp[m] as usize;
+            if let (Some(k), Some(sphere), Some(p), Some(o)) = (
+                self.tables.eye.get(s),
+                spheres.get(s),
+                ps.get_mut(m),
+                os.get_mut(m),
+            ) {
+                let ray = Ray::new(eye, Vec3::new(dx[m], dy[m], dz[m]));
+                (*p, *o) = hit_point_near(&ray, t[m], k.f, sphere, self.offset_near(s));
+            }
+        };
+        let len = ps.len().min(os.len());
+        let mut m = 0;
+        while m < len {
+            let s = sp[m];
+            let whole = m + LANES <= len && sp[m..m + LANES].iter().all(|&x| x == s);
+            let near = whole && self.offset_near(s as usize);
+            // Four hits on one sphere beyond `near2`: `hit_point_far` lane by lane.
+            if whole && !near {
+                if let (Some(k), Some(sphere)) =
+                    (self.tables.eye.get(s as usize), spheres.get(s as usize))
+                {
+                    let lanes = |a: &[f32; PAD]| {
+                        F::from(core::array::from_fn::<f32, LANES, _>(|l| a[m + l]))
+                    };
+                    let d = crate::simd::V {
+                        x: lanes(dx),
+                        y: lanes(dy),
+                        z: lanes(dz),
+                    };
+                    if let Some((p, o)) = hit_point_far4(d, lanes(t), k.f, sphere) {
+                        for l in 0..LANES {
+                            if let (Some(pp), Some(oo)) = (ps.get_mut(m + l), os.get_mut(m + l)) {
+                                (*pp, *oo) = (p.lane(l), o.lane(l));
+                            }
+                        }
+                        m += LANES;
+                        continue;
+                    }
+                }
+            }
+            if !near {
+                let end = if whole { m + LANES } else { m + 1 };
+                for (q, &sq) in sp.iter().enumerate().take(end.min(len)).skip(m) {
+                    if sq != NONE {
+                        one(q, ps, os);
+                    }
+                }
+                m = end;
+                continue;
+            }
+            let lanes =
+                |a: &[f32; PAD]| F::from(core::array::from_fn::<f32, LANES, _>(|l| a[m + l]));
+            let (x, y, z, tt) = (lanes(dx), lanes(dy), lanes(dz), lanes(t));
+            // `ray.at(t)` = eye + d·t and `f + d·t`, coordinate by coordinate.
+            let (px, py, pz) = (
+                F::splat(eye.x) + x * tt,
+                F::splat(eye.y) + y * tt,
+                F::splat(eye.z) + z * tt,
+            );
+            // The offsets, `f + t·d`, are left out: shading redoes them where it needs them
+            // (`kept_hit`, `shade4`), which costs less than storing them by point.
+            let (px, py, pz) = (px.to_array(), py.to_array(), pz.to_array());
+            for l in 0..LANES {
+                if let Some(p) = ps.get_mut(m + l) {
+                    *p = Vec3::new(px[l], py[l], pz[l]);
+                }
+            }
+            m += LANES;
+        }
+    }
+
+    /// The pixel `(i, j)` of the span just started: hosts shade the whole span at its start
+    /// ([`Frame::fill_span`]).
+    #[inline(always)]
+    pub(super) fn span_output(&self, _j: u32, i: u32, cull: &Cull<S, L>) -> Rgb888 {
+        let k = (i - cull.span_start) as usize;
+        cull.path.px.get(k).copied().unwrap_or(cull.miss)
+    }
+
+    /// What a span does once gathered: hosts shade all its pixels ([`Frame::fill_span`]).
+    #[inline(always)]
+    pub(super) fn span_gathered(&self, j: u32, cull: &mut Cull<S, L>) {
+        self.fill_span(j, cull);
+    }
+
+    /// Every pixel of the span just gathered into `cull.path.px`: groups of four in lanes
+    /// (`shade_span4`), the others one by one, so that the pixel loop only reads them.
+    #[inline(never)]
+    pub(super) fn fill_span(&self, j: u32, cull: &mut Cull<S, L>) {
+        cull.path.done = 0;
+        if cull.stored {
+            self.shade_span4(cull);
+        }
+        let len = cull.span_len();
+        let span = if len >= 32 { u32::MAX } else { (1 << len) - 1 };
+        for k in crate::simd::ones(!cull.path.done & span) {
+            let c = self.span_pixel(j, cull.span_start + k as u32, cull);
+            if let Some(p) = cull.path.px.get_mut(k) {
+                *p = c;
+            }
+        }
+    }
+
+    /// [`Frame::start_row`] for the `n` rows from `j` that a span gathers at once (a tile,
+    /// `Cull::rows`): their spheres are those whose box crosses any of them.
+    pub(super) fn start_rows(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
+        cull.row.clear();
+        for (s, b) in self.tables.boxes.iter().enumerate() {
+            if (j..j + n).any(|r| b.has_row(r)) {
+                let _ = cull.row.push(s as u16);
+            }
+        }
+        cull.path.rows = n;
+        self.start_miss(cull);
+    }
+
+    /// [`Frame::render_rows`]'s rows `first_row..first_row + rows` into `buf` (whole rows of the
+    /// image's width): tile by tile ([`Frame::tile_rows`]).
+    #[inline(always)]
+    pub(super) fn rows_into<C: From<Rgb888>>(&self, first_row: u32, rows: u32, buf: &mut [C]) {
+        let w = self.width() as usize;
+        let _ = self.tile_rows(first_row, rows, |t: TileRow<'_>| {
+            for (o, &p) in t.place(buf, first_row, w).iter_mut().zip(t.px) {
+                *o = p.into();
+            }
+            Ok::<(), core::convert::Infallible>(())
+        });
+    }
+
+    /// Rows `first ..first + n` as hosts trace them: span by span, each span shaded whole by
+    /// `fill_span`, and with one sample a pixel and shadow rays `KEPT` (8) rows at a time (a
+    /// tile), whose hits the sample slots hold: one set of shadow lists for the tile's groups
+    /// instead of one per row. A tile's bounds are barely larger than a row's (a span is 32
+    /// pixels wide), so its lists are barely longer. `out` gets each row of each span of each
+    /// tile in turn; its first error ends it.
+    pub(crate) fn tile_rows<E>(
+        &self,
+        first: u32,
+        n: u32,
+        mut out: impl FnMut(TileRow<'_>) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let tile = if self.samples == 1 && self.shadow_rays {
+            KEPT as u32
+        } else {
+            1
+        };
+        let end = (first + n).min(self.height());
+        let mut cull = Cull::new();
+        let mut j = first;
+        while j < end {
+            let rows = tile.min(end - j);
+            self.start_rows(j, rows, &mut cull);
+            for m in 0..self.width().div_ceil(SPAN as u32) {
+                let i = m * SPAN as u32;
+                cull.span_start = i;
+                cull.span_end = (i + SPAN as u32).min(self.width());
+                self.gather(j, &mut cull);
+                for r in 0..rows {
+                    cull.path.base = r as usize * SPAN;
+                    self.fill_span(j + r, &mut cull);
+                    let px = cull.path.px.get(..cull.span_len()).unwrap_or(&[]);
+                    out(TileRow { i, j: j + r, px })?;
+                }
+            }
+            j += rows;
+        }
+        Ok(())
+    }
+
+    /// Shades the span's stored primary hits four neighbouring pixels at a time, one lane pass
+    /// for each sphere that is not a mirror among the four ([`shade_lit4`](crate::shading)),
+    /// into `cull.path.px`, marking them in `cull.path.done`: the pixels `next_pixel` would compute one
+    /// by one, bit for bit (the hit records built lane by lane as `make_hit` builds them, the
+    /// shadow tests the scalar ones, asked for the same lanes and lights). Misses are marked
+    /// done too (`px` starts as the background); every other pixel is left to the scalar path.
+    #[inline(never)]
+    pub(super) fn shade_span4(&self, cull: &mut Cull<S, L>) {
+        let len = cull.span_len();
+        let (mut done, mut px) = (0u32, [cull.miss; SPAN]);
+        let mut m = 0;
+        while m + 4 <= len {
+            // Pixels `k0..k0 + 4`, whose hits are in slots `q..q + 4`.
+            let (k0, q) = (m, cull.slot(m));
+            m += 4;
+            let [dx, dy, dz] = &cull.path.hit_dc;
+            let lanes = |a: &[f32; DPAD]| -> Option<[f32; 4]> { a.get(q..q + 4)?.try_into().ok() };
+            let (Some(ss), Some(ts), Some(x), Some(y), Some(z)) = (
+                cull.hit_s.get(q..q + 4),
+                cull.hit_t.get(q..q + 4),
+                lanes(dx),
+                lanes(dy),
+                lanes(dz),
+            ) else {
+                break;
+            };
+            // Misses show the background, which `px` already holds: done, whatever the rest.
+            let none = (0..4).fold(0u32, |b, l| b | ((ss[l] == NONE) as u32) << l);
+            done |= none << k0;
+            let hits = !none & 0b1111;
+            if hits == 0b1111 && ss.iter().all(|&x| x == ss[0]) {
+                let colour = self.shade4::<true>(cull, q, ss[0] as usize, hits, ts, [x, y, z]);
+                keep4(self, &mut px, &mut done, k0, hits, colour);
+            } else if hits != 0 {
+                self.shade4_mixed(cull, (k0, q), ss, hits, ts, [x, y, z], &mut px, &mut done);
+            }
+        }
+        cull.path.px = px;
+        cull.path.done = done;
+    }
+
+    /// [`Frame::shade_span4`]'s groups of four whose hits are not all on one sphere (an edge):
+    /// one lane pass per sphere, each keeping the lanes that hit it, rather than leaving such a
+    /// group to the scalar path pixel by pixel (scenes of many small spheres have many edges).
+    /// Out of line, so that the common group's code keeps its values in registers.
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn shade4_mixed(
+        &self,
+        cull: &Cull<S, L>,
+        (k0, q): (usize, usize),
+        ss: &[u16],
+        hits: u32,
+        ts: &[f32],
+        xyz: [[f32; 4]; 3],
+        px: &mut [Rgb888; SPAN],
+        done: &mut u32,
+    ) {
+        let mut todo = hits;
+        while let Some(&s) = ss.get(todo.trailing_zeros() as usize) {
+            let active = (0..4).fold(0u32, |b, l| b | ((ss.get(l) == Some(&s)) as u32) << l) & todo;
+            todo &= !active;
+            let colour = self.shade4::<false>(cull, q, s as usize, active, ts, xyz);
+            keep4(self, px, done, k0, active, colour);
+        }
+    }
+
+    /// The colours of the lanes `active` of the span's four stored hits from slot `q`, all on
+    /// sphere `si` (`ts` their t, `dir` their view directions by coordinate), shaded in lanes
+    /// as `shade_span4` describes; the other lanes' values are meaningless. `None` where the
+    /// scalar path must shade them (a mirror, a case `shade_lit4` leaves). `ALL`: all four lanes
+    /// (the common group); a parameter so that the common group and `shade4_mixed` each get a
+    /// copy of their own, whose shadow-test closure is inlined (shared, it goes out of line).
+    #[inline(always)]
+    pub(super) fn shade4<const ALL: bool>(
+        &self,
+        cull: &Cull<S, L>,
+        q: usize,
+        si: usize,
+        active: u32,
+        ts: &[f32],
+        [x, y, z]: [[f32; 4]; 3],
+    ) -> Option<crate::simd::V> {
+        use crate::shading::{in_shadow4, shade_lit4, Hits4};
+        use crate::simd::{bits, F, V};
+        use wide::{CmpGt, CmpLe, CmpLt};
+        let scene = self.scene;
+        let active = if ALL { 0b1111 } else { active };
+        let (k, sphere) = (self.tables.eye.get(si)?, scene.spheres().get(si)?);
+        if scene.has_mirror(si) && scene.max_depth() > 0 {
+            return None;
+        }
+        let dir = V {
+            x: F::from(x),
+            y: F::from(y),
+            z: F::from(z),
+        };
+        let t = F::from(<[f32; 4]>::try_from(ts).ok()?);
+        let r = sphere.radius;
+        // `hit_point_within`'s offset: `f + t·d` within near2 radii, else the one the span's
+        // bounds kept, or without them (no shadow rays) `hit_point_far`'s, in lanes here.
+        let offset = if self.offset_near(si) {
+            V::splat(k.f).add(dir.mul(t))
+        } else {
+            match cull.hit_o.get(q..q + 4) {
+                Some(o) if cull.culled => V::from_lanes([o[0], o[1], o[2], o[3]]),
+                _ => crate::geometry::hit_point_far4(dir, t, k.f, sphere)?.1,
+            }
+        };
+        // `hit_from_offset` for rays from the eye (`path` zero).
+        let outward = offset.div(F::splat(r));
+        let path = V::splat(Vec3::ZERO).add(dir.mul(t));
+        let centre = F::splat(r * r).cmp_le(path.dot(path));
+        let anchor = V::select(centre, V::splat(sphere.center), V::splat(self.camera.eye()));
+        let rel = V::select(centre, offset, path);
+        let facing = dir.dot(outward).cmp_gt(F::ZERO);
+        let normal = V::select(facing, outward.neg(), outward);
+        let h = Hits4 {
+            t,
+            sphere: si,
+            normal,
+            offset,
+            anchor,
+            rel,
+            dir,
+        };
+        let group = if cull.culled { cull.lists(si) } else { None };
+        let inside = bits(normal.dot(offset).cmp_lt(F::ZERO));
+        let blocked = |i: usize, light: &Light, ask: u32, to: &V| {
+            if !scene.shadows() {
+                return 0;
+            }
+            // No candidate: only lanes that see the sphere from inside need the test
+            // (`Frame::blocked`'s shortcut, four lanes at a time).
+            let cands = self.candidates(group, i);
+            let ask = if cands.is_empty() { ask & inside } else { ask };
+            if ask == 0 {
+                return 0;
+            }
+            let cs = self.light_consts(i, light);
+            let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
+            in_shadow4(scene, &h, light, to, ask, consts, cands)
+        };
+        shade_lit4(scene, &h, active, blocked)
+    }
+}
+
+/// Stores the encoded `colour` of the lanes `active` of the group at `k0` into `px`, marking
+/// them done; nothing when the lanes could not shade them (`None`: the scalar path will).
+#[inline(always)]
+pub(super) fn keep4<const S: usize, const L: usize>(
+    frame: &Frame<'_, S, L>,
+    px: &mut [Rgb888; SPAN],
+    done: &mut u32,
+    k0: usize,
+    active: u32,
+    colour: Option<crate::simd::V>,
+) {
+    let Some(colour) = colour else { return };
+    for (l, &c) in frame.encode4(&colour).iter().enumerate() {
+        if active & (1 << l) != 0 {
+            if let Some(p) = px.get_mut(k0 + l) {
+                *p = c;
+                *done |= 1 << (k0 + l);
+            }
+        }
+    }
+}
+
+/// One row of one span of a tile (see [`Frame::tile_rows`]): the pixels `(i.., j)`.
+pub(crate) struct TileRow<'p> {
+    pub(crate) i: u32,
+    pub(crate) j: u32,
+    pub(crate) px: &'p [Rgb888],
+}
+
+impl TileRow<'_> {
+    /// Where these pixels go in `buf`, whole rows of `w` pixels from row `first_row`: the rest
+    /// of `buf` from pixel `(i, j)` (empty past its end).
+    #[inline(always)]
+    pub(crate) fn place<'b, C>(&self, buf: &'b mut [C], first_row: u32, w: usize) -> &'b mut [C] {
+        let at = (self.j - first_row) as usize * w + self.i as usize;
+        buf.get_mut(at..).unwrap_or(&mut [])
+    }
+}
+
+/// The host path's part of the per-row state ([`Cull::path`]).
+#[derive(Debug)]
+pub(super) struct PathState {
+    /// The directions by coordinate (x, y, z), padded to whole lanes past the last slot: traced
+    /// and shaded four columns at a time, a lane group is one load per coordinate (`Vec3`s
+    /// would be transposed both ways).
+    pub(super) hit_dc: [[f32; DPAD]; 3],
+    /// The span's pixels that `Frame::shade_span4` shaded four at a time or found to be misses
+    /// (bit `k` for pixel `k`), and all the span's pixels once `Frame::fill_span` has shaded
+    /// the rest.
+    pub(super) done: u32,
+    pub(super) px: [Rgb888; SPAN],
+    /// The rows a span gathers at once (`Frame::tile_rows`: up to `KEPT`), row `r`'s hits in
+    /// slots `r·SPAN + k`, and the first slot of the row being shaded.
+    pub(super) rows: u32,
+    pub(super) base: usize,
+}
+
+impl PathState {
+    pub(super) fn new() -> Self {
+        PathState {
+            hit_dc: [[0.0; DPAD]; 3],
+            done: 0,
+            px: [Rgb888::new(0, 0, 0); SPAN],
+            rows: 1,
+            base: 0,
+        }
+    }
+}
+
+impl<const S: usize, const L: usize> Cull<S, L> {
+    /// The rows the span gathers at once.
+    #[inline(always)]
+    pub(super) fn rows(&self) -> u32 {
+        self.path.rows
+    }
+
+    /// The slot of pixel `k` of the row being shaded.
+    #[inline(always)]
+    pub(super) fn slot(&self, k: usize) -> usize {
+        self.path.base + k
+    }
+
+    /// Pixels in the current span.
+    #[inline(always)]
+    pub(super) fn span_len(&self) -> usize {
+        ((self.span_end - self.span_start) as usize).min(SPAN)
+    }
+
+    /// The view direction kept in slot `k`.
+    #[inline(always)]
+    pub(super) fn dir(&self, k: usize) -> Option<Vec3> {
+        let [x, y, z] = &self.path.hit_dc;
+        Some(Vec3::new(*x.get(k)?, *y.get(k)?, *z.get(k)?))
+    }
+
+    /// Keeps `d` as the view direction of slot `k`.
+    #[inline(always)]
+    pub(super) fn set_dir(&mut self, k: usize, d: Vec3) {
+        for (a, v) in self.path.hit_dc.iter_mut().zip([d.x, d.y, d.z]) {
+            if let Some(a) = a.get_mut(k) {
+                *a = v;
+            }
+        }
+    }
+}
+
+/// The spheres kept as one light's shadow candidates for one hit group, as the sweep or the scan
+/// names them: on hosts collected first, then weighed four at a time
+/// ([`LightKind::may_block4`]) into the span's pool.
+pub(super) struct Blockers<'c, const S: usize> {
+    light: &'c Light,
+    spheres: &'c [crate::Sphere],
+    q: Vec3,
+    rho: f32,
+    pool: &'c mut List<S>,
+    found: List<S>,
+    full: bool,
+}
+
+impl<'c, const S: usize> Blockers<'c, S> {
+    /// For shadow rays towards `light` from the ball `(q, rho)`, appending to `pool`.
+    #[inline(always)]
+    pub(super) fn new(
+        light: &'c Light,
+        spheres: &'c [crate::Sphere],
+        q: Vec3,
+        rho: f32,
+        pool: &'c mut List<S>,
+    ) -> Self {
+        Blockers {
+            light,
+            spheres,
+            q,
+            rho,
+            pool,
+            found: heapless::Vec::new(),
+            full: false,
+        }
+    }
+
+    /// Sphere `s` may be a candidate.
+    #[inline(always)]
+    pub(super) fn consider(&mut self, s: u16) {
+        if self.found.push(s).is_err() {
+            self.full = true;
+        }
+    }
+
+    /// Keeps the spheres that can block in the pool; whether a list or the pool ran out of room.
+    #[inline(always)]
+    pub(super) fn finish(&mut self) -> bool {
+        let mut full = self.full;
+        for c in self.found.chunks(4) {
+            let ids: [u16; 4] = core::array::from_fn(|l| c.get(l).copied().unwrap_or(NONE));
+            let sph = ids.map(|i| self.spheres.get(i as usize).copied());
+            let m = sph.map(|s| s.map_or(Vec3::ZERO, |s| s.center));
+            let r = sph.map(|s| s.map_or(0.0, |s| s.radius));
+            let pass = self.light.may_block4(m, r, self.q, self.rho);
+            for (l, &i) in ids.iter().enumerate() {
+                if pass & (1 << l) != 0 && sph[l].is_some() && self.pool.push(i).is_err() {
+                    full = true;
+                }
+            }
+        }
+        full
+    }
+}
+
+impl<const S: usize> Sweep<S> {
+    /// The start of [`Sweep::scan`] from entry `i`, four entries at a time: the same
+    /// comparisons lane by lane, and as the keys are sorted, the entries within the band are a
+    /// prefix of the four. Where the scalar scan goes on, or `None` when the band has ended.
+    #[inline(always)]
+    pub(super) fn scan_lanes(
+        &self,
+        mut i: usize,
+        hi: f32,
+        key: f32,
+        slack: f32,
+        key2: f32,
+        consider: &mut impl FnMut(u16),
+    ) -> Option<usize> {
+        use crate::simd::{bits, ones, F};
+        use wide::CmpLe;
+        fn from(v: &[f32], i: usize) -> &[f32] {
+            v.get(i..).unwrap_or(&[])
+        }
+        let (ks, hs, k2s) = (from(&self.key, i), from(&self.half, i), from(&self.key2, i));
+        let ss = self.sphere.get(i..).unwrap_or(&[]);
+        let quads = ks.chunks_exact(4).zip(hs.chunks_exact(4));
+        for ((k, h), (k2, s)) in quads.zip(k2s.chunks_exact(4).zip(ss.chunks_exact(4))) {
+            let four = |c: &[f32]| <[f32; 4]>::try_from(c).ok().map(F::from);
+            let (Some(k), Some(h), Some(k2)) = (four(k), four(h), four(k2)) else {
+                break;
+            };
+            let near = h + F::splat(slack);
+            let within = k.cmp_le(F::splat(hi));
+            let keep = within
+                & (k - F::splat(key)).abs().cmp_le(near)
+                & (k2 - F::splat(key2)).abs().cmp_le(near);
+            for l in ones(bits(keep)) {
+                if let Some(&s) = s.get(l) {
+                    consider(s);
+                }
+            }
+            if bits(within) != 0b1111 {
+                return None;
+            }
+            i += 4;
+        }
+        Some(i)
+    }
+}
