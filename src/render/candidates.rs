@@ -82,8 +82,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
         }
         cull.culled = false;
-        cull.stored = false;
-        cull.kept = false;
+        cull.kept = Kept::Nothing;
         // No group until this span's: `lists` finds none where the span builds no lists.
         cull.groups = [NONE; GROUPS];
         // Without shadow rays the span needs no bounds, but with one sample a pixel its hits
@@ -102,7 +101,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             // No sphere's box meets the span (the sky above the scene): every ray misses, and
             // none needs building.
             cull.hit_s.fill(NONE);
-            cull.stored = true;
+            cull.kept = Kept::Pixels;
         } else {
             // Every sample's hit joins the bounds; the hits are also kept for shading where
             // there is room (`KEPT`), the samples outermost so that their offsets (the divides
@@ -187,8 +186,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     }
                 }
             }
-            cull.stored = n == 1;
-            cull.kept = kept && n > 1;
+            cull.kept = if n == 1 {
+                Kept::Pixels
+            } else if kept {
+                Kept::Samples
+            } else {
+                Kept::Nothing
+            };
         }
         if !self.shadow_rays {
             return;
@@ -222,7 +226,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let bounded = rho.is_finite() && q.is_finite();
             // The scene's lights only: the ranges of light slots past them are never asked.
             for (li, (range, light)) in ranges.iter_mut().zip(self.scene.lights()).enumerate() {
-                *range = ALL;
+                *range = Candidates::ALL;
                 if !bounded {
                     continue;
                 }
@@ -260,7 +264,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     // Out of room: this light tests every sphere for this group.
                     cull.pool.truncate(start as usize);
                 } else {
-                    *range = (start, cull.pool.len() as u16);
+                    *range = Candidates::listed(start, cull.pool.len() as u16);
                 }
             }
         }

@@ -6,8 +6,61 @@ use super::*;
 /// The group of every other sphere.
 pub(super) const REST: u16 = u16::MAX - 1;
 
-/// A light's pool range when it must test every sphere (empty as `a..b`: `a > b`).
-pub(super) const ALL: (u16, u16) = (u16::MAX, 0);
+/// The shadow candidates of one light for one hit group: every sphere ([`Candidates::ALL`]), or
+/// the spheres `pool[start..end]` (`Cull::pool`). A pair with `ALL` as `start > end` rather than
+/// an enum, so that the common question, whether there is no candidate, is one comparison: as
+/// an enum, M4F 402.6 instructions a pixel against 397.9 (`examples/firmware/run.sh m4f`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Candidates {
+    start: u16,
+    end: u16,
+}
+
+impl Candidates {
+    /// Every sphere: the group has no bound, or its list did not fit in the pool.
+    pub(super) const ALL: Candidates = Candidates {
+        start: u16::MAX,
+        end: 0,
+    };
+
+    /// The spheres `pool[start..end]`.
+    #[inline(always)]
+    pub(super) fn listed(start: u16, end: u16) -> Self {
+        Candidates { start, end }
+    }
+
+    /// No candidate at all (not "every sphere").
+    #[inline(always)]
+    pub(super) fn is_empty(self) -> bool {
+        self.start == self.end
+    }
+
+    /// The candidates in `pool`, or `None` for every sphere.
+    #[inline]
+    pub(super) fn of(self, pool: &[u16]) -> Option<&[u16]> {
+        let Candidates { start, end } = self;
+        // The common case, no candidate, without the slice's bounds checks.
+        if start == end {
+            return Some(&[]);
+        }
+        // `ALL` has start > end: no slice.
+        pool.get(start as usize..end as usize)
+    }
+}
+
+/// Which primary hits a span kept for shading (`Cull::kept`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Kept {
+    /// None: shading traces each pixel's rays again.
+    Nothing,
+    /// One hit a pixel, in slot `k` of pixel `k` (or of the tile's row, `Cull::slot`): one
+    /// sample a pixel, as `t` and sphere (`NONE`: no hit), with the view direction where
+    /// [`DIRS`] keeps it; 6 or 18 bytes a pixel, for microcontroller stacks.
+    Pixels,
+    /// Every sample of a supersampled span, sample `m` of pixel `k` in slot `m·SPAN + k` (see
+    /// [`KEPT`]; hosts only).
+    Samples,
+}
 
 /// The candidate lists of the span being traced: the row's spheres, the span's, and for each
 /// light the spheres that can block its shadow rays from the span's primary hits (all kept in
@@ -32,20 +85,14 @@ pub(super) struct Cull<const S: usize, const L: usize> {
     pub(super) pool: List<S>,
     /// The sphere of each hit group (`NONE`: unused, `REST`: every other sphere).
     pub(super) groups: [u16; GROUPS],
-    /// Per group and light, its slice `a..b` of `pool`; [`ALL`] (`a > b`): test every sphere.
-    pub(super) ranges: [[(u16, u16); L]; GROUPS],
+    /// Per group and light, its candidates.
+    pub(super) ranges: [[Candidates; L]; GROUPS],
     pub(super) span_start: u32,
     pub(super) span_end: u32,
     /// Shadow lists are valid for this span.
     pub(super) culled: bool,
-    /// `hit_t`, `hit_s` hold the span's primary hits (one sample per pixel) as `t` and sphere
-    /// (`NONE`: no hit), and `path`'s directions (see [`DIRS`]) the direction of each hit's view ray: 6 or
-    /// 18 bytes a pixel, for microcontroller stacks.
-    pub(super) stored: bool,
-    /// The same for every sample of a supersampled span, sample `m` of pixel `k` in slot
-    /// `m·SPAN + k` (see [`KEPT`]). Apart from `stored` so that a pixel of one sample tests one
-    /// flag, not also the sample count.
-    pub(super) kept: bool,
+    /// Which primary hits of the span `hit_t`, `hit_s` and `path`'s directions hold for shading.
+    pub(super) kept: Kept,
     /// Where `culled`, each kept hit's point and offset from its sphere's centre, which the
     /// span's bounds take and shading reuses (see [`OFFS`]); the offset only for spheres
     /// beyond near2 (`Frame::offset_near`), whose offsets cost more than `f + t·d`.
@@ -64,12 +111,11 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             // Zeros, which the compiler writes in place (one `memset`), wherever `gather` writes
             // the field before it is read: the groups, their ranges and the slots.
             groups: [0; GROUPS],
-            ranges: [[(0, 0); L]; GROUPS],
+            ranges: [[Candidates::listed(0, 0); L]; GROUPS],
             span_start: 0,
             span_end: 0,
             culled: false,
-            stored: false,
-            kept: false,
+            kept: Kept::Nothing,
             hit_t: [0.0; SPAN * KEPT],
             hit_s: [0; SPAN * KEPT],
             hit_g: [0; SPAN * KEPT],
@@ -134,7 +180,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
 /// The shadow lists of one primary hit (see [`Cull::lists`]).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Lists<'c, const L: usize> {
-    pub(super) ranges: &'c [(u16, u16); L],
+    pub(super) ranges: &'c [Candidates; L],
     pub(super) pool: &'c [u16],
 }
 
@@ -142,18 +188,12 @@ impl<'c, const L: usize> Lists<'c, L> {
     /// Whether light `i` has no candidate blocker (its list is empty, not "every sphere").
     #[inline(always)]
     pub(super) fn is_empty(self, i: usize) -> bool {
-        self.ranges.get(i).is_some_and(|&(a, b)| a == b)
+        self.ranges.get(i).is_some_and(|c| c.is_empty())
     }
 
     /// The candidate blockers of light `i`, or `None` when it must test every sphere.
     #[inline]
     pub(super) fn light(self, i: usize) -> Option<&'c [u16]> {
-        let (a, b) = self.ranges.get(i).copied()?;
-        // The common case, no candidate, without the slice's bounds checks.
-        if a == b {
-            return Some(&[]);
-        }
-        // `ALL` has a > b: no slice.
-        self.pool.get(a as usize..b as usize)
+        self.ranges.get(i)?.of(self.pool)
     }
 }

@@ -272,7 +272,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     #[inline(never)]
     pub(super) fn fill_span(&self, j: u32, cull: &mut Cull<S, L>) {
         cull.path.done = 0;
-        if cull.stored {
+        if cull.kept == Kept::Pixels {
             self.shade_span4(cull);
         }
         let len = cull.span_len();

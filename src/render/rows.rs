@@ -178,7 +178,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Pixel `(i, j)` of the span gathered in `cull`, shaded on its own.
     #[inline(always)]
     pub(super) fn span_pixel(&self, j: u32, i: u32, cull: &Cull<S, L>) -> Rgb888 {
-        let c = if cull.stored {
+        let c = if cull.kept == Kept::Pixels {
             let k = cull.slot((i - cull.span_start) as usize);
             // A miss: the pixel `start_row` shaded for all of them (gather built no ray).
             let Some((t, s)) = cull.hit(k) else {
@@ -203,7 +203,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 self.eye_hit(&Ray::new(self.camera.eye(), dir), t, s as usize)
             };
             self.shade_from(&ray, first, cull.lists_at(k))
-        } else if KEPT > 1 && cull.kept {
+        } else if KEPT > 1 && cull.kept == Kept::Samples {
             let k = (i - cull.span_start) as usize;
             // `average`'s sum, in its order, of the samples' kept hits (slot `m·SPAN + k`).
             let n = self.samples;
