@@ -8,8 +8,9 @@
 //! on every scene; CI does both (the firmware's CRC checks one scene on each board).
 //!
 //! `cfg(size_opt)` at opt-level "s" or "z": the scalar render path then keeps one out-of-line
-//! copy of the hit record and of the shading (`Frame::shade_stored`), which the speed builds
-//! inline into the pixel loop, the same operations either way.
+//! copy of the hit record and of the shading, which the speed builds also inline into the pixel
+//! loop (`Frame::shade_stored`), and no second primary test for an eye outside a sphere: the
+//! same operations either way (`src/render/config.rs`: `INLINE_SHADING`, `OUTSIDE_TEST`).
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(lanes, no_dirs, size_opt)");
     println!("cargo::rerun-if-changed=build.rs");

@@ -193,7 +193,7 @@ impl Camera {
     #[cfg(lanes)]
     #[inline(always)]
     pub(crate) fn directions4(&self, x: [f32; 4], y: f32) -> [[f32; 4]; 3] {
-        use wide::f32x4 as F;
+        use crate::simd::F;
         let px = F::from(x) * F::splat(self.sx) - F::splat(self.ox);
         let py = F::splat(self.oy - y * self.sy);
         let (u, v, w) = (self.u, self.v, self.w);

@@ -6,10 +6,11 @@
 //! on x86-64 and AArch64 the vector lanes (`wide`'s f32x4: IEEE add, multiply, divide and
 //! square root, no fused multiply-add) in which the renderer traces four primary rays at once.
 //!
-//! The layers, each one module: [`math`] → [`geometry`] (rays, spheres, intersection) →
-//! [`scene`] → [`camera`] → [`shading`] (the shading model) → [`render`] (frames, bands,
-//! pixels) → [`output`] (embedded-graphics displays). With the `scene-file` feature (std),
-//! [`scene_file`] reads the TOML scene format.
+//! The layers, each one module: [`math`] → `simd` (the vector lanes, hosts only) →
+//! [`geometry`] (rays, spheres, intersection) → [`scene`] → [`camera`] and [`raster`] (screen
+//! bounds) → [`shading`] (the shading model) → [`render`] (frames, bands, pixels) → [`output`]
+//! (embedded-graphics displays). With the `scene-file` feature (std), [`scene_file`] reads the
+//! TOML scene format. ARCHITECTURE.md in the repository says where each part lives.
 //!
 //! ```
 //! use embedded_graphics::pixelcolor::Rgb888;

@@ -2,31 +2,11 @@
 //! (`cfg(lanes)`, set by build.rs: x86-64, AArch64 with NEON) four lanes of `wide::f32x4`;
 //! elsewhere none, and the code above runs its scalar path. Every lane operation is the IEEE
 //! operation of its scalar counterpart in the same order (no fused multiply-add), so a lane
-//! computes the scalar bits; [`Ieee`] lets one generic definition serve both.
+//! computes the scalar bits; [`Ieee`] (implemented here for the lanes) lets one generic
+//! definition serve both.
 
-use core::ops::{Add, Mul, Sub};
-
-/// The IEEE operations of the error-free transformations, on one f32 and (`cfg(lanes)`) on the
-/// four lanes of a vector: both run the one generic definition, the same operations in the same
-/// order, so a lane computes the scalar bits.
-pub(crate) trait Ieee:
-    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self>
-{
-    fn splat(x: f32) -> Self;
-    /// `-x`: the sign flipped.
-    fn flip(self) -> Self;
-}
-
-impl Ieee for f32 {
-    #[inline(always)]
-    fn splat(x: f32) -> f32 {
-        x
-    }
-    #[inline(always)]
-    fn flip(self) -> f32 {
-        -self
-    }
-}
+#[cfg(lanes)]
+use crate::math::Ieee;
 
 #[cfg(lanes)]
 impl Ieee for lanes::F {
@@ -50,6 +30,9 @@ pub(crate) use lanes::*;
 pub(crate) mod lanes {
     use crate::math::Vec3;
     pub(crate) use wide::f32x4 as F;
+    /// Four i32 lanes, for the bytes of four encoded pixels.
+    pub(crate) use wide::i32x4 as I;
+    pub(crate) use wide::{CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
     /// `-x` as `Vec3` negates: the sign flipped (wide's `-` is `0 − x`, which differs at zero).
     #[inline(always)]

@@ -142,7 +142,7 @@ pub(crate) fn hit_point_far4(
     sphere: &Sphere,
 ) -> Option<(crate::simd::V, crate::simd::V)> {
     use crate::simd::{neg, F, V};
-    use wide::{CmpGt, CmpLe};
+    use crate::simd::{CmpGt, CmpLe};
     let fv = V::splat(f);
     let w = V {
         x: product_difference_of(fv.y, d.z, fv.z, d.y),

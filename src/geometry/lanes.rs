@@ -38,7 +38,7 @@ pub(crate) fn leaving_blocks4(
     open: u32,
 ) -> (u32, u32) {
     use crate::simd::{bits, F, V};
-    use wide::{CmpGe, CmpGt, CmpLe};
+    use crate::simd::{CmpGe, CmpGt, CmpLe};
     let f = anchor.sub(V::splat(sphere.center)).add(rel);
     let r = sphere.radius;
     let (ff, rr) = (f.dot(f), F::splat(r * r));
@@ -118,7 +118,7 @@ pub(super) fn lanes_hit(
     tmax: crate::simd::F,
 ) -> LaneHits {
     use crate::simd::{neg, F as f32x4};
-    use wide::{CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
+    use crate::simd::{CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
     let v = f32x4::splat;
     let (fx, fy, fz) = (f.x, f.y, f.z);
     let (dx, dy, dz) = (d.x, d.y, d.z);

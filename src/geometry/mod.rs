@@ -38,8 +38,7 @@
 //! squares overflow f32 are scaled by powers of two first, which is exact.
 //! docs/numerics.md measures what each of these costs and buys.
 
-use crate::math::{finite, sqrt, two_product_of, two_square_of, two_sum_of, Vec3};
-use crate::simd::Ieee;
+use crate::math::{finite, sqrt, two_product_of, two_square_of, two_sum_of, Ieee, Vec3};
 
 mod compensated;
 mod hit_point;

@@ -1,8 +1,30 @@
 //! Error-free transformations in plain f32: TwoSum, Dekker's split, exact squares and products.
-//! Each is one definition generic over [`Ieee`](crate::simd::Ieee), so the scalar path and the
+//! Each is one definition generic over [`Ieee`], so the scalar path and the
 //! vector lanes compute the same bits.
 
-use crate::simd::Ieee;
+use core::ops::{Add, Mul, Sub};
+
+/// The IEEE operations of the error-free transformations, on one f32 and (`cfg(lanes)`) on the
+/// four lanes of a vector: both run the one generic definition, the same operations in the same
+/// order, so a lane computes the scalar bits.
+pub(crate) trait Ieee:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self>
+{
+    fn splat(x: f32) -> Self;
+    /// `-x`: the sign flipped.
+    fn flip(self) -> Self;
+}
+
+impl Ieee for f32 {
+    #[inline(always)]
+    fn splat(x: f32) -> f32 {
+        x
+    }
+    #[inline(always)]
+    fn flip(self) -> f32 {
+        -self
+    }
+}
 
 /// `a + b` rounded, and the rounding error exactly: `a + b = s + e` (Knuth's TwoSum, which
 /// needs no ordering of `a` and `b`). Exact for finite inputs whose sum does not overflow.

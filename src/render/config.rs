@@ -1,6 +1,8 @@
-//! The build-time variants of the render path, in one place: what a span keeps per pixel
+//! The build-time constants of the render path, in one place: what a span keeps per pixel
 //! depends on whether the target has vector lanes (`cfg(lanes)`) and room for view directions
-//! (`cfg(no_dirs)`); build.rs sets both (ARCHITECTURE.md has the table).
+//! (`cfg(no_dirs)`), and size builds (`cfg(size_opt)`) leave out code for flash; build.rs sets
+//! all three (ARCHITECTURE.md has the table of variants). Which render path runs is chosen in
+//! `render/mod.rs` (`lanes.rs` or `scalar.rs`).
 
 use super::*;
 

@@ -55,9 +55,9 @@ pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
 /// 255) and a plain truncation of what is left, in `[0, 256)`: the same bytes, as integer lanes.
 #[cfg(lanes)]
 #[inline(always)]
-pub(super) fn linear_bytes(c: crate::simd::F) -> wide::i32x4 {
+pub(super) fn linear_bytes(c: crate::simd::F) -> crate::simd::I {
     use crate::simd::F;
-    use wide::{CmpGe, CmpLt};
+    use crate::simd::{CmpGe, CmpLt};
     let v = F::splat(255.0) * c + F::splat(0.5);
     let (zero, top, end) = (F::ZERO, F::splat(255.0), F::splat(256.0));
     let outside = v.cmp_ge(end).blend(top, zero);
@@ -99,7 +99,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         // The three bytes of each pixel in one integer lane: one extraction a pixel, not three.
         let (r, g, b) = (linear_bytes(c.x), linear_bytes(c.y), linear_bytes(c.z));
-        let rgb: wide::i32x4 = r | (g << 8_i32) | (b << 16_i32);
+        let rgb: crate::simd::I = r | (g << 8_i32) | (b << 16_i32);
         let rgb = rgb.to_array();
         rgb.map(|w| Rgb888::new(w as u8, (w >> 8) as u8, (w >> 16) as u8))
     }

@@ -7,7 +7,7 @@ use super::*;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The closest primary hits of the span's pixels `i0..i1` for one sample (`ox`, row
-    /// coordinate `y`) into the slots `base..`: view directions in `hit_d`, `(t, sphere)` in
+    /// coordinate `y`) into the slots `base..`: view directions in `path`, `(t, sphere)` in
     /// `hit_t`/`hit_s` (`NONE`: a miss). Sphere by sphere in scene order, each over the columns of
     /// its box: every pixel sees its candidates in the order and with the `tmax` of
     /// [`Frame::primary_among`], so the hits are its hits, bit for bit, while a sphere's
@@ -177,7 +177,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         sp: &[u16; PAD],
     ) {
         use crate::geometry::{hit_point_far4, LANES};
-        use wide::f32x4 as F;
+        use crate::simd::F;
         let eye = self.camera.eye();
         let spheres = self.scene.spheres();
         let one = |m: usize, ps: &mut [Vec3], os: &mut [Vec3]| {
@@ -436,7 +436,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     ) -> Option<crate::simd::V> {
         use crate::shading::{in_shadow4, shade_lit4, Hits4};
         use crate::simd::{bits, F, V};
-        use wide::{CmpGt, CmpLe, CmpLt};
+        use crate::simd::{CmpGt, CmpLe, CmpLt};
         let scene = self.scene;
         let active = if ALL { 0b1111 } else { active };
         let (k, sphere) = (self.tables.eye.get(si)?, scene.spheres().get(si)?);
@@ -680,8 +680,8 @@ impl<const S: usize> Sweep<S> {
         key2: f32,
         consider: &mut impl FnMut(u16),
     ) -> Option<usize> {
+        use crate::simd::CmpLe;
         use crate::simd::{bits, ones, F};
-        use wide::CmpLe;
         fn from(v: &[f32], i: usize) -> &[f32] {
             v.get(i..).unwrap_or(&[])
         }

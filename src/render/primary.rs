@@ -1,5 +1,6 @@
-//! Primary rays over a span: the closest hit of each pixel's ray among the span's candidates,
-//! scalar or four columns at a time, and the hit records built from what the span kept.
+//! Primary rays: the closest hit of a ray from the eye among all spheres or a span's candidates,
+//! and the hit records built from what a span kept. A span's own tracing is each render path's
+//! `trace_span` (`lanes.rs`, `scalar.rs`).
 
 use super::*;
 

@@ -1,5 +1,6 @@
-//! Pixels, rows, bands and tiles: the public render calls, the row iterator, and the
-//! brute-force reference path.
+//! Pixels, rows and bands: the public render calls, the pixel loop, the row iterator, and the
+//! brute-force reference path. Each render path (`lanes.rs`, `scalar.rs`) fills its rows its own
+//! way (`rows_into`; hosts in tiles).
 
 use super::*;
 

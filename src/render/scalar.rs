@@ -1,12 +1,13 @@
-//! The Cortex-M render path (no vector lanes): a span's primary rays traced column by column,
-//! its pixels shaded one at a time as the row asks for them, in a row's worth of state that fits
-//! a microcontroller's stack. `lanes.rs` is the host path, which computes the same pixels.
+//! The Cortex-M render path (no vector lanes): a span's primary rays traced one ray at a time
+//! (sphere by sphere over each box's columns; on the M0, without kept directions, pixel by
+//! pixel in `Frame::gather`), its pixels shaded one at a time as the row asks for them, in a
+//! row's worth of state that fits a microcontroller's stack. `lanes.rs` is the host path, which computes the same pixels.
 
 use super::*;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The closest primary hits of the span's pixels `i0..i1` for one sample (`ox`, row
-    /// coordinate `y`) into the slots `base..`: view directions in `hit_d`, `(t, sphere)` in
+    /// coordinate `y`) into the slots `base..`: view directions in `path`, `(t, sphere)` in
     /// `hit_t`/`hit_s` (`NONE`: a miss). Sphere by sphere in scene order, each over the columns of
     /// its box: every pixel sees its candidates in the order and with the `tmax` of
     /// [`Frame::primary_among`], so the hits are its hits, bit for bit, while a sphere's

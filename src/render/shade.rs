@@ -1,5 +1,5 @@
-//! Shading a span's pixels from their stored hits: the shadow tests with the span's candidate
-//! lists, and four neighbouring pixels of one sphere at once on targets with lanes.
+//! Shading a span's pixels from their stored hits, with the shadow tests over the span's
+//! candidate lists (four pixels at a time on hosts: `lanes.rs`).
 
 use super::*;
 

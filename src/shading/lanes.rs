@@ -53,7 +53,7 @@ pub(crate) fn shade_lit4<const S: usize, const L: usize>(
     active: u32,
     mut blocked: impl FnMut(usize, &Light, u32, &V) -> u32,
 ) -> Option<V> {
-    use wide::CmpGt;
+    use crate::simd::CmpGt;
     let m = scene.materials().get(h.sphere)?;
     let lights = scene.lights();
     let n = h.normal;
@@ -119,7 +119,7 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
     candidates: &[u16],
 ) -> u32 {
     use crate::geometry::leaving_blocks4;
-    use wide::CmpLt;
+    use crate::simd::CmpLt;
     let spheres = scene.spheres();
     let inside = bits(h.normal.dot(h.offset).cmp_lt(F::ZERO));
     // The lanes whose shadow ray `shadow_ray` scales up take the scalar test too.

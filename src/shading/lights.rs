@@ -246,7 +246,7 @@ impl LightKind for Point {
     #[cfg(lanes)]
     #[inline(always)]
     fn may_block4(&self, m: [Vec3; 4], r: [f32; 4], q: Vec3, rho: f32) -> u32 {
-        use wide::{CmpGt, CmpLt};
+        use crate::simd::{CmpGt, CmpLt};
         let v = F::splat;
         let (mx, my, mz) = lanes3(m);
         let r = F::from(r);
@@ -272,7 +272,7 @@ impl LightKind for Point {
     #[cfg(lanes)]
     #[inline(always)]
     fn towards4(&self, anchor: V, rel: V, active: u32) -> Option<(V, V)> {
-        use wide::CmpLe;
+        use crate::simd::CmpLe;
         let to = V::splat(self.position).sub(anchor).sub(rel);
         let ll = to.dot(to);
         let normal = F::splat(f32::MIN_POSITIVE).cmp_le(ll) & ll.cmp_le(F::splat(f32::MAX));
@@ -285,7 +285,7 @@ impl LightKind for Point {
     #[cfg(lanes)]
     #[inline(always)]
     fn scalar_lanes(&self, to: &V) -> u32 {
-        use wide::CmpLt;
+        use crate::simd::CmpLt;
         bits(to.dot(*to).cmp_lt(F::splat(f32::from_bits(SMALL_VV))))
     }
 
@@ -377,7 +377,7 @@ impl LightKind for Directional {
     #[cfg(lanes)]
     #[inline(always)]
     fn may_block4(&self, m: [Vec3; 4], r: [f32; 4], q: Vec3, rho: f32) -> u32 {
-        use wide::CmpGt;
+        use crate::simd::CmpGt;
         let v = F::splat;
         let (mx, my, mz) = lanes3(m);
         let r = F::from(r);
@@ -439,7 +439,7 @@ fn lanes3(m: [Vec3; 4]) -> (F, F, F) {
 #[cfg(lanes)]
 #[inline(always)]
 fn not_above(g: F, tol: F) -> u32 {
-    use wide::CmpGt;
+    use crate::simd::CmpGt;
     !(g.cmp_gt(tol)).move_mask() as u32 & 0b1111
 }
 

@@ -1,6 +1,7 @@
 //! The shading model: ambient, Lambert diffuse and Blinn–Phong specular under point and
-//! directional lights, hard shadows and mirror reflection. All of it is in this module:
-//! the model here, shadow rays in `shadow.rs`, four pixels at once in `lanes.rs`.
+//! directional lights, hard shadows and mirror reflection. All of it is in this module: the
+//! model here, what each kind of light does in `lights.rs`, shadow rays in `shadow.rs`, four
+//! pixels at once in `lanes.rs`.
 //!
 //! At a hit `p` with facing normal `n`, seen along `d`:
 //! `colour = k_d ⊙ ambient + Σ I ⊙ (k_d (n·l) + k_s max(0, n·h)^s)` over the lights with
