@@ -11,7 +11,8 @@
 # the call graph of the disassembly (tools/panic_check.py). Exits non-zero when a CRC differs
 # from the one committed in src/scene.rs, the panic check fails, (m4f) vsqrt.f32 is missing, or
 # a budget is broken: stack high-water (whole run or render passes) above 2 KiB on any build,
-# or (m4f) microray's flash above 16 KiB at opt "s".
+# or (m4f) microray's flash above 16 KiB at opt "s" or more than 400 instructions a pixel at
+# opt 3.
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
@@ -64,11 +65,20 @@ run() { # $1 = cargo profile, $2 = key suffix
   echo "$inlined"
   local total=$(( $(sed -n "s/^microray_flash_bytes$suffix=//p" <<<"$sizes") + ${inlined##*=} ))
   echo "microray_total_flash_bytes$suffix=$total"
-  # The budgets of issue #4, enforced: a change that breaks one fails here, not in a README.
+  # The budgets, enforced: a change that breaks one fails here, not in a README.
   # Flash: microray's code (symbols and inlined) at most 16 KiB on thumbv7em at opt "s" (at
   # opt 3 it is only reported: that build trades size for speed).
   if [ "$target" = thumbv7em-none-eabihf ] && [ "$profile" = release-s ]; then
     within microray_total_flash_bytes "$total" 16384
+  fi
+  # Speed: at most 400 M4F instructions a pixel at opt 3 (QEMU -icount, repeatable).
+  if [ "$target" = thumbv7em-none-eabihf ] && [ "$profile" = release ]; then
+    local ipp
+    ipp=$(sed -n 's/^instructions_per_pixel=//p' <<<"$out")
+    if [ -z "$ipp" ] || ! awk -v x="$ipp" 'BEGIN { exit !(x <= 400) }'; then
+      echo "error$suffix=instructions_per_pixel ${ipp:-missing}, over the budget of 400"
+      fail=1
+    fi
   fi
   within stack_bytes "$(sed -n 's/^stack_bytes=//p' <<<"$out")" 2048
   within render_stack_bytes "$(sed -n 's/^render_stack_bytes=//p' <<<"$out")" 2048
