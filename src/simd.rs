@@ -3,7 +3,11 @@
 //! elsewhere none, and the code above runs its scalar path. Every lane operation is the IEEE
 //! operation of its scalar counterpart in the same order (no fused multiply-add), so a lane
 //! computes the scalar bits; [`Ieee`] (implemented here for the lanes) lets one generic
-//! definition serve both.
+//! definition serve both. Where a lane version is a copy of its scalar code (`lanes.rs` in
+//! geometry, shading and render), a test pins them together bit for bit (the lane unit tests,
+//! `tests/accelerated.rs` against the scalar brute force, and CI's `MICRORAY_HOST_AS` runs); the
+//! copies pay for themselves: the target scene takes 285.6 x86 instructions a pixel with lanes,
+//! 598.5 built as the Cortex-M path (`bench/instructions.sh`, `MICRORAY_HOST_AS=m4f`).
 
 #[cfg(lanes)]
 use crate::math::Ieee;

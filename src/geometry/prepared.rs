@@ -303,8 +303,9 @@ pub(super) fn hit_ab_xyz(
 /// `q`'s sign (b < 0 once the behind test has passed: b ≥ 0 left, and a NaN b makes disc NaN,
 /// which the range check hands to the general test with any other overflow), `q = 0`
 /// (q ≥ −b > 0), and `near_root`'s `c > 0 && b < 0`. A copy rather than a
-/// const parameter of `hit_ab_xyz`, which made generic compiles to a longer general test.
-/// `hit_outside_is_hit` pins the two together, bit for bit.
+/// const parameter of `hit_ab_xyz`, which made generic compiles to a longer general test; what
+/// it saves the M4F is `OUTSIDE_TEST`'s figure (`render/config.rs`). `hit_outside_is_hit` pins
+/// the two together, bit for bit.
 #[cfg(any(test, not(lanes)))]
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]

@@ -271,6 +271,43 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 }
 
+/// The spheres kept as one light's shadow candidates for one hit group, as the sweep or the scan
+/// names them, into the span's pool: each render path weighs them its own way (`consider` and
+/// `finish` in `lanes.rs`, four at a time; in `scalar.rs`, one by one as they come).
+pub(super) struct Blockers<'c, const S: usize> {
+    pub(super) light: &'c Light,
+    pub(super) spheres: &'c [crate::Sphere],
+    pub(super) q: Vec3,
+    pub(super) rho: f32,
+    pub(super) pool: &'c mut List<S>,
+    /// The candidates collected so far (hosts; `()` on Cortex-M, never read there).
+    #[cfg_attr(not(lanes), allow(dead_code))]
+    pub(super) found: Found<S>,
+    pub(super) full: bool,
+}
+
+impl<'c, const S: usize> Blockers<'c, S> {
+    /// For shadow rays towards `light` from the ball `(q, rho)`, appending to `pool`.
+    #[inline(always)]
+    pub(super) fn new(
+        light: &'c Light,
+        spheres: &'c [crate::Sphere],
+        q: Vec3,
+        rho: f32,
+        pool: &'c mut List<S>,
+    ) -> Self {
+        Blockers {
+            light,
+            spheres,
+            q,
+            rho,
+            pool,
+            found: Default::default(),
+            full: false,
+        }
+    }
+}
+
 /// The box of four points (a coordinate that is NaN skipped, as `Frame::gather`'s bounds skip
 /// it): selections in registers, one group update for four neighbouring hits instead of four.
 #[inline(always)]

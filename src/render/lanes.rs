@@ -6,12 +6,8 @@
 use super::*;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
-    /// The closest primary hits of the span's pixels `i0..i1` for one sample (`ox`, row
-    /// coordinate `y`) into the slots `base..`: view directions in `path`, `(t, sphere)` in
-    /// `hit_t`/`hit_s` (`NONE`: a miss). Sphere by sphere in scene order, each over the columns of
-    /// its box: every pixel sees its candidates in the order and with the `tmax` of
-    /// [`Frame::primary_among`], so the hits are its hits, bit for bit, while a sphere's
-    /// constants and box stay in registers across its columns.
+    /// `scalar.rs`'s `trace_span`, the same hits, `LANES` columns at a time ([`Frame::trace_lanes`]),
+    /// and with shadow rays the hit points for the span's bounds too.
     #[inline]
     pub(super) fn trace_span(
         &self,
@@ -22,8 +18,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         base: usize,
         cull: &mut Cull<S, L>,
     ) {
-        // Hosts with f32 vector registers: `LANES` columns at a time, and with shadow rays the
-        // hit points for the span's bounds too.
         const PAD: usize = SPAN + crate::geometry::LANES - 1;
         let len = (i1 - i0) as usize;
         let [dx, dy, dz] = &mut cull.path.hit_dc;
@@ -604,40 +598,10 @@ impl<const S: usize, const L: usize> Cull<S, L> {
     }
 }
 
-/// The spheres kept as one light's shadow candidates for one hit group, as the sweep or the scan
-/// names them: on hosts collected first, then weighed four at a time
-/// ([`LightKind::may_block4`]) into the span's pool.
-pub(super) struct Blockers<'c, const S: usize> {
-    light: &'c Light,
-    spheres: &'c [crate::Sphere],
-    q: Vec3,
-    rho: f32,
-    pool: &'c mut List<S>,
-    found: List<S>,
-    full: bool,
-}
+/// Where hosts collect a light's candidates before weighing them four at a time.
+pub(super) type Found<const S: usize> = List<S>;
 
-impl<'c, const S: usize> Blockers<'c, S> {
-    /// For shadow rays towards `light` from the ball `(q, rho)`, appending to `pool`.
-    #[inline(always)]
-    pub(super) fn new(
-        light: &'c Light,
-        spheres: &'c [crate::Sphere],
-        q: Vec3,
-        rho: f32,
-        pool: &'c mut List<S>,
-    ) -> Self {
-        Blockers {
-            light,
-            spheres,
-            q,
-            rho,
-            pool,
-            found: heapless::Vec::new(),
-            full: false,
-        }
-    }
-
+impl<const S: usize> Blockers<'_, S> {
     /// Sphere `s` may be a candidate.
     #[inline(always)]
     pub(super) fn consider(&mut self, s: u16) {

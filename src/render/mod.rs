@@ -65,10 +65,10 @@ use config::*;
 use cull::*;
 pub use encode::*;
 #[cfg(lanes)]
-use lanes::{Blockers, PathState};
+use lanes::{Found, PathState};
 pub use rows::*;
 #[cfg(not(lanes))]
-use scalar::{Blockers, PathState};
+use scalar::{Found, PathState};
 pub use storage::*;
 use sweep::*;
 

@@ -159,37 +159,10 @@ impl<const S: usize, const L: usize> Cull<S, L> {
     }
 }
 
-/// The spheres kept as one light's shadow candidates for one hit group, as the sweep or the scan
-/// names them: each weighed at once ([`LightKind::may_block`]) into the span's pool.
-pub(super) struct Blockers<'c, const S: usize> {
-    light: &'c Light,
-    spheres: &'c [crate::Sphere],
-    q: Vec3,
-    rho: f32,
-    pool: &'c mut List<S>,
-    full: bool,
-}
+/// Cortex-M weighs each candidate at once: nothing is collected.
+pub(super) type Found<const S: usize> = ();
 
-impl<'c, const S: usize> Blockers<'c, S> {
-    /// For shadow rays towards `light` from the ball `(q, rho)`, appending to `pool`.
-    #[inline(always)]
-    pub(super) fn new(
-        light: &'c Light,
-        spheres: &'c [crate::Sphere],
-        q: Vec3,
-        rho: f32,
-        pool: &'c mut List<S>,
-    ) -> Self {
-        Blockers {
-            light,
-            spheres,
-            q,
-            rho,
-            pool,
-            full: false,
-        }
-    }
-
+impl<const S: usize> Blockers<'_, S> {
     /// Sphere `s` may be a candidate: kept if it can block.
     #[inline(always)]
     pub(super) fn consider(&mut self, s: u16) {
