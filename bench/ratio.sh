@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # How much longer one scene's frame takes than another's with the same build: N interleaved
 # pairs of one-thread renders (A, B, A, B, ...), medians of each and of the per-pair ratios
-# B/A with their spread. Issue #5's "16 -> 256 spheres costs at most 2x per frame":
+# B/A with their spread. For 16 -> 256 spheres, against the target of at most 2x per frame:
 #
 #   bench/ratio.sh bench/scenes/spread16_shadowed.toml bench/scenes/spread256_shadowed.toml
 #

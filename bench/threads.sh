@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Measures how much faster the desktop renderer is on two threads than on one (issue #5 asks for
-# at least 1.8x), from the `render: X ms` line of examples/render.
+# Measures how much faster the desktop renderer is on two threads than on one (the target is at
+# least 1.8x), from the `render: X ms` line of examples/render.
 #
 #   bench/threads.sh [SCENE.toml] [RENDER ARGS...]    (default scene: bench/scenes/target.toml)
 #   bench/threads.sh bench/scenes/target.toml --width 64 --height 48    # ~fixed overhead only

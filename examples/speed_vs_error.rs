@@ -407,7 +407,7 @@ impl M4f {
         }
     }
 
-    /// [`M4f::cell`] with its ratio to the count under `base` (the lecture's formula with the
+    /// [`M4f::cell`] with its ratio to the count under `base` (the textbook quadratic with the
     /// same square root, so that the ratio compares formulas): "67.4 (3.09×)".
     fn cell_vs(&self, key: &str, base: &str) -> String {
         let cell = self.cell(key);
@@ -668,8 +668,8 @@ fn main() {
     let items = dirs.len() * spheres.len();
     let prepared: Vec<Prepared> = spheres.iter().map(|s| Prepared::exact(eye, s)).collect();
     let mut fs: Vec<&mut dyn FnMut() -> f32> = vec![];
-    let mut f_lecture = || sum_hits(eye, &dirs, &spheres, lecture);
-    let mut f_lecture_vsqrt = || sum_hits(eye, &dirs, &spheres, lecture_vsqrt);
+    let mut f_textbook = || sum_hits(eye, &dirs, &spheres, textbook);
+    let mut f_textbook_vsqrt = || sum_hits(eye, &dirs, &spheres, textbook_vsqrt);
     let mut f_geometric = || sum_hits(eye, &dirs, &spheres, geometric);
     let mut f_hb = || sum_hits(eye, &dirs, &spheres, hearn_baker);
     // A closure, not the fn item: the item's `Fn::call` shim was left out of line (the loop then
@@ -680,14 +680,14 @@ fn main() {
     let mut f_f32_c_per_ray = || sum_hits(eye, &dirs, &spheres, f32_c_per_ray);
     let mut f_frame = || primary_frame(&dirs, &prepared);
     let mut f_frame4 = || primary_frame4(&dirs, &prepared);
-    fs.push(&mut f_lecture);
+    fs.push(&mut f_textbook);
     fs.push(&mut f_geometric);
     fs.push(&mut f_hb);
     fs.push(&mut f_default);
     fs.push(&mut f_frame);
     fs.push(&mut f_f64_c_per_ray);
     fs.push(&mut f_frame4);
-    fs.push(&mut f_lecture_vsqrt);
+    fs.push(&mut f_textbook_vsqrt);
     fs.push(&mut f_f32_c_per_ray);
     let ns = time_all(items, runs, &mut fs);
     // A second timing set, like the shadow rays of an ordinary scene: origins on the spheres of
@@ -732,14 +732,14 @@ fn main() {
         shadow_items,
         runs,
         &mut [
-            per_ray!(lecture),
+            per_ray!(textbook),
             per_ray!(geometric),
             per_ray!(hearn_baker),
             per_ray!(default_per_ray),
             per_ray!(f64_c_per_ray),
             &mut || sum_shading(),
             &mut || sum_blocks(),
-            per_ray!(lecture_vsqrt),
+            per_ray!(textbook_vsqrt),
             per_ray!(f32_c_per_ray),
         ],
     );
@@ -761,12 +761,12 @@ fn main() {
     );
     let rows: Vec<Row> = vec![
         (
-            "lecture quadratic (-b ± √(b²-4ac))/2a",
+            "textbook quadratic (-b ± √(b²-4ac))/2a",
             [220, 40, 40],
             "red",
-            errors(&cases, lecture),
+            errors(&cases, textbook),
             ns[0],
-            "primary_lecture",
+            "primary_textbook",
         ),
         (
             "geometric t_m ± Δt",
@@ -817,15 +817,15 @@ fn main() {
             "",
         ),
         // On hosts the same instruction as libm's (sqrtss), on the M4F `vsqrt.f32` instead of
-        // libm's software routine; the lecture's errors. Not plotted: on hosts it is the red
-        // point.
+        // libm's software routine; the textbook quadratic's errors. Not plotted: on hosts it is
+        // the red point.
         (
-            "lecture quadratic, microray's sqrt (vsqrt.f32 on M4F)",
+            "textbook quadratic, microray's sqrt (vsqrt.f32 on M4F)",
             NOT_PLOTTED,
             "—",
-            errors(&cases, lecture_vsqrt),
+            errors(&cases, textbook_vsqrt),
             ns[7],
-            "primary_lecture_vsqrt",
+            "primary_textbook_vsqrt",
         ),
         // What per-ray costs if the compensation cost nothing; its errors are the f32 c's.
         // Not plotted: a bound, not a variant.
@@ -840,7 +840,7 @@ fn main() {
     ];
     println!("## Ray-sphere intersection\n");
     println!("{} hard rays ({} far/small up to distance/radius 1e5, the rest grounds of radius 1e3..1e6 seen from 1 above); ulp statistics on hits that do not graze.\n", cases.len(), cases.iter().filter(|c| !c.ground).count());
-    println!("| variant | plot marker | ns/test (median) | × lecture | max ulp, far/small | max ulp, ground | median ulp | ground max rel. error | false hits | misses | Cortex-M4F instructions/test (× lecture with vsqrt) |");
+    println!("| variant | plot marker | ns/test (median) | × textbook | max ulp, far/small | max ulp, ground | median ulp | ground max rel. error | false hits | misses | Cortex-M4F instructions/test (× textbook with vsqrt) |");
     println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for (name, _, colour, e, t, key) in &rows {
         println!(
@@ -852,22 +852,22 @@ fn main() {
             e.max_rel_ground,
             e.false_hits,
             e.misses,
-            m4f.cell_vs(key, "primary_lecture_vsqrt")
+            m4f.cell_vs(key, "primary_textbook_vsqrt")
         );
     }
     if m4f.0.is_ok() {
         let first = |key: &str, per: usize| m4f.cell(key).parse::<usize>().map_or(0, |n| n / per);
         println!(
-            "\nCortex-M4F instructions/test: counted by examples/firmware/numbench.sh in QEMU (mps2-an386, -icount), instructions not cycles (vdiv.f32 and vsqrt.f32 are one instruction of 14 cycles), on the first {} directions of this timing set and the first {} rays of the shadow-like one below, each variant inlined into its own copy of the loop (as here and in a renderer), the empty loop subtracted. The lecture's, geometric and Hearn-Baker rows call libm::sqrtf, a software routine on thumbv7em (~50 instructions); the ratios in brackets are to the lecture's formula with vsqrt.f32, as microray's rows use it, so that they compare formulas.",
+            "\nCortex-M4F instructions/test: counted by examples/firmware/numbench.sh in QEMU (mps2-an386, -icount), instructions not cycles (vdiv.f32 and vsqrt.f32 are one instruction of 14 cycles), on the first {} directions of this timing set and the first {} rays of the shadow-like one below, each variant inlined into its own copy of the loop (as here and in a renderer), the empty loop subtracted. The textbook, geometric and Hearn-Baker rows call libm::sqrtf, a software routine on thumbv7em (~50 instructions); the ratios in brackets are to the textbook quadratic with vsqrt.f32, as microray's rows use it, so that they compare formulas.",
             first("primary_tests", spheres.len()),
             first("shadow_tests", lit_spheres.len() - 1)
         );
     }
     println!("\nThe same per-ray variants timed on shadow-like rays of an ordinary scene (origins on the spheres of tests/data/lit.toml, directions away from the surface, the sphere left not tested; per-frame constants do not apply to rays of their own origin):\n");
-    println!("| variant | ns/test (median) | × lecture | Cortex-M4F instructions/test (× lecture with vsqrt) |");
+    println!("| variant | ns/test (median) | × textbook | Cortex-M4F instructions/test (× textbook with vsqrt) |");
     println!("|---|---:|---:|---:|");
     for (k, (name, key)) in [
-        ("lecture quadratic", "shadow_lecture"),
+        ("textbook quadratic", "shadow_textbook"),
         ("geometric t_m ± Δt", "shadow_geometric"),
         ("stable roots + Hearn-Baker, f32 c", "shadow_hearn_baker"),
         ("default, per ray (ray_intersect)", "shadow_default_per_ray"),
@@ -884,8 +884,8 @@ fn main() {
             "shadow_leaving_blocks",
         ),
         (
-            "lecture quadratic, microray's sqrt (vsqrt.f32 on M4F)",
-            "shadow_lecture_vsqrt",
+            "textbook quadratic, microray's sqrt (vsqrt.f32 on M4F)",
+            "shadow_textbook_vsqrt",
         ),
         (
             "floor: the default's roots with plain f32 c, never compensated",
@@ -899,7 +899,7 @@ fn main() {
             "| {name} | {:.2} | {:.2} | {} |",
             ns2[k],
             ns2[k] / ns2[0],
-            m4f.cell_vs(key, "shadow_lecture_vsqrt")
+            m4f.cell_vs(key, "shadow_textbook_vsqrt")
         );
     }
     // How often the per-ray default computes the compensated c (~100 instructions more): the
@@ -964,7 +964,7 @@ fn main() {
         _ => panic!("lit.toml's second light is its sun"),
     }
     println!("\nThe same variants on the secondary rays that rendering tests/data/lit.toml and mirror.toml casts (160×120, one ray a pixel): the directional light's shadow rays from every primary hit that faces it, which shading tests with Prepared::leaving_blocks, and the first mirror bounces, which it tests with Prepared::leaving_hit (the point light's shadow rays are cast from the light with per-frame constants, as primary rays are). Unlike the shadow-like set above, whose directions cover each point's whole hemisphere, these are the rays a render asks about:\n");
-    println!("| rays | tests | variant | ns/test (median) | × lecture | Cortex-M4F instructions/test (× lecture with vsqrt) |");
+    println!("| rays | tests | variant | ns/test (median) | × textbook | Cortex-M4F instructions/test (× textbook with vsqrt) |");
     println!("|---|---:|---|---:|---:|---:|");
     let sun = Sun::new(&LIT_SPHERES, lit_sun()).unwrap();
     for (kind, key) in [(Secondary::Sun, "sun"), (Secondary::Mirror, "mirror")] {
@@ -980,9 +980,9 @@ fn main() {
                 "mirror rays: Prepared::leaving_hit",
             ),
         };
-        // The set's own loops: the lecture, ray_intersect, what shading calls (the sun's shadow
-        // rays' blocks, the bounces' hits) and, for the sun, the prototype.
-        let mut f_lecture = || shadow_loop(&rays, &LIT_SPHERES, |o, _, _, s, d| lecture(o, d, s));
+        // The set's own loops: the textbook quadratic, ray_intersect, what shading calls (the
+        // sun's shadow rays' blocks, the bounces' hits) and, for the sun, the prototype.
+        let mut f_textbook = || shadow_loop(&rays, &LIT_SPHERES, |o, _, _, s, d| textbook(o, d, s));
         let mut f_default = || {
             shadow_loop(&rays, &LIT_SPHERES, |o, _, _, s, d| {
                 default_per_ray(o, d, s)
@@ -1003,7 +1003,7 @@ fn main() {
                 Prepared::leaving_blocks(anchor, rel, s, d, hi)
             })
         };
-        let mut fs: Vec<&mut dyn FnMut() -> f32> = vec![&mut f_lecture, &mut f_default];
+        let mut fs: Vec<&mut dyn FnMut() -> f32> = vec![&mut f_textbook, &mut f_default];
         match kind {
             Secondary::Sun => fs.extend([&mut f_blocks as &mut dyn FnMut() -> f32, &mut f_sun]),
             Secondary::Mirror => fs.push(&mut f_hit),
@@ -1012,7 +1012,7 @@ fn main() {
         let (shading, prototype) = (ns3[2], ns3.get(3).copied().unwrap_or(f64::NAN));
         let call = format!("default as shading calls it ({call})");
         for (name, variant, ns) in [
-            ("lecture quadratic", "lecture", ns3[0]),
+            ("textbook quadratic", "textbook", ns3[0]),
             (
                 "default, per ray (ray_intersect)",
                 "default_per_ray",
@@ -1031,15 +1031,15 @@ fn main() {
             println!(
                 "| {what} | {tests} | {name} | {ns:.2} | {:.2} | {} |",
                 ns / ns3[0],
-                m4f.cell_vs(&format!("{key}_{variant}"), &format!("{key}_lecture_vsqrt"))
+                m4f.cell_vs(&format!("{key}_{variant}"), &format!("{key}_textbook_vsqrt"))
             );
         }
         if m4f.0.is_ok() {
             println!(
-                "| {what} | | lecture quadratic, microray's sqrt (vsqrt.f32 on M4F) | | | {} |",
+                "| {what} | | textbook quadratic, microray's sqrt (vsqrt.f32 on M4F) | | | {} |",
                 m4f.cell_vs(
-                    &format!("{key}_lecture_vsqrt"),
-                    &format!("{key}_lecture_vsqrt")
+                    &format!("{key}_textbook_vsqrt"),
+                    &format!("{key}_textbook_vsqrt")
                 )
             );
         }
@@ -1186,14 +1186,14 @@ fn main() {
     // 4. Whole images: microray's f32 default against the f64 reference.
     println!("\n## Whole image: f32 against the f64 reference\n");
     println!("Pixels off by more than 1 / more than 8 levels (not excused by the 2-ulp rule) and ns per pixel. The plain renderers differ only in the intersection formula; microray is the library's `Frame`; the f64 column is the test reference.\n");
-    println!("| scene | pixels | lecture | geometric | stable + HB, f32 c | stable + HB, f64 c | microray | f64 reference ns/pixel |");
+    println!("| scene | pixels | textbook | geometric | stable + HB, f32 c | stable + HB, f64 c | microray | f64 reference ns/pixel |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|");
     let mut names: Vec<String> = std::fs::read_dir("tests/hard")
         .unwrap()
         .filter_map(|e| e.ok()?.path().file_stem()?.to_str().map(String::from))
         .collect();
     names.sort();
-    let variants: [Isect; 4] = [lecture, geometric, hearn_baker, f64_c_per_ray];
+    let variants: [Isect; 4] = [textbook, geometric, hearn_baker, f64_c_per_ray];
     let mut fails = [0usize; 5];
     for name in &names {
         let file: Box<Desktop> =

@@ -1,4 +1,4 @@
-//! The lecture's building blocks: `ray_intersect` and `find_intersection`.
+//! The basic intersection queries: `ray_intersect` and `find_intersection`.
 
 use microray::{ray_intersect, Material, Ray, Scene, Sphere, Vec3};
 

@@ -10,23 +10,23 @@ use microray::{ray_intersect, Prepared, Ray, Sphere, Vec3};
 
 // ---- the intersection variants ----------------------------------------------------------------
 
-/// The lecture's formula: `(−b ± √(b² − 4ac)) / 2a` with `b = 2 f·d`, its square root
+/// The textbook quadratic: `(−b ± √(b² − 4ac)) / 2a` with `b = 2 f·d`, its square root
 /// `libm::sqrtf` as a port of it would call (a software routine on thumbv7em).
 #[inline(always)]
-pub fn lecture(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
-    lecture_with(o, d, s, libm::sqrtf)
+pub fn textbook(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
+    textbook_with(o, d, s, libm::sqrtf)
 }
 
-/// [`lecture`] with microray's square root (`vsqrt.f32` on the Cortex-M4F, `libm::sqrtf`
+/// [`textbook`] with microray's square root (`vsqrt.f32` on the Cortex-M4F, `libm::sqrtf`
 /// elsewhere: the same bits): the formula's own cost on the M4F, for ratios that compare
 /// formulas rather than square roots. On hosts the two are one instruction.
 #[inline(always)]
-pub fn lecture_vsqrt(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
-    lecture_with(o, d, s, microray::math::sqrt)
+pub fn textbook_vsqrt(o: Vec3, d: Vec3, s: &Sphere) -> Option<f32> {
+    textbook_with(o, d, s, microray::math::sqrt)
 }
 
 #[inline(always)]
-fn lecture_with(o: Vec3, d: Vec3, s: &Sphere, sqrt: impl Fn(f32) -> f32) -> Option<f32> {
+fn textbook_with(o: Vec3, d: Vec3, s: &Sphere, sqrt: impl Fn(f32) -> f32) -> Option<f32> {
     let f = o - s.center;
     let a = d.dot(d);
     let b = 2.0 * f.dot(d);
@@ -359,7 +359,7 @@ pub fn recorded_rays(kind: Secondary, out: &mut [(Vec3, Vec3, usize)]) -> usize 
 
 // ---- a prototype: per-frame constants for a directional light's shadow rays ---------------------
 // Not microray's code path (yet): a measured answer to whether shadow rays that share a
-// direction, as primary rays share an origin, can be tested for less than the lecture's formula
+// direction, as primary rays share an origin, can be tested for less than the textbook quadratic
 // with the same answers. Every sphere is projected once per frame onto the plane across the
 // light's direction `l` (coordinates u, v) and onto `l` (w), from a reference point `e` of the
 // scene (the first sphere's centre), so that a test is a 2D distance. Coordinates are taken

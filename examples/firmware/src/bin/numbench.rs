@@ -20,10 +20,10 @@
 //! calibrates ticks to instructions. Each variant's loop runs once (the count is
 //! deterministic); the same loop with an empty body is subtracted, so a value is the test
 //! itself. Every variant is inlined into its own copy of the loop, as the host's harness and a
-//! renderer inline it. (Until the eleventh session the per-ray variants were called through a
-//! function pointer, with their arguments in memory: ~32 instructions a call that the inlined
-//! rows, the per-frame constants and `Prepared::leaving_*`, did not pay, so those rows' ratios
-//! to the lecture's formula came out about half the real ones.)
+//! renderer inline it. (Called through a function pointer, a per-ray variant would take its
+//! arguments from memory: ~32 instructions a call that the inlined rows, the per-frame constants
+//! and `Prepared::leaving_*`, do not pay, which would halve those rows' ratios to the textbook
+//! quadratic.)
 #![no_std]
 #![no_main]
 
@@ -220,7 +220,7 @@ fn main() -> ! {
     hprintln!("primary_tests={}", n);
     hprintln!("primary_empty_loop={}", empty / n as i64);
     // A macro, not a helper taking a `fn`: each variant gets a closure of its own, inlined into
-    // its own copy of the loop (through a `fn` pointer it was a call with the rays in memory).
+    // its own copy of the loop (through a `fn` pointer it would be a call with the rays in memory).
     macro_rules! p {
         ($k:expr, $f:ident) => {
             c.report($k, n, empty, || {
@@ -228,8 +228,8 @@ fn main() -> ! {
             })
         };
     }
-    p!("primary_lecture", lecture);
-    p!("primary_lecture_vsqrt", lecture_vsqrt);
+    p!("primary_textbook", textbook);
+    p!("primary_textbook_vsqrt", textbook_vsqrt);
     p!("primary_geometric", geometric);
     p!("primary_hearn_baker", hearn_baker);
     p!("primary_default_per_ray", default_per_ray);
@@ -250,8 +250,8 @@ fn main() -> ! {
     hprintln!("shadow_tests={}", n);
     hprintln!("shadow_empty_loop={}", empty / n as i64);
     // The origins are data already (read from `rays`), so no `black_box` here, as in the host's
-    // loops and a renderer: work on the origin alone may leave the sphere loop. (It cost every
-    // row ~3–6 instructions a test until the eleventh session, the lecture's the most.)
+    // loops and a renderer: work on the origin alone may leave the sphere loop. (A `black_box`
+    // keeps it in: ~3–6 instructions a test more in every row, most in the textbook quadratic.)
     macro_rules! p {
         ($k:expr, $f:ident) => {
             c.report($k, n, empty, || {
@@ -259,8 +259,8 @@ fn main() -> ! {
             })
         };
     }
-    p!("shadow_lecture", lecture);
-    p!("shadow_lecture_vsqrt", lecture_vsqrt);
+    p!("shadow_textbook", textbook);
+    p!("shadow_textbook_vsqrt", textbook_vsqrt);
     p!("shadow_geometric", geometric);
     p!("shadow_hearn_baker", hearn_baker);
     p!("shadow_default_per_ray", default_per_ray);
@@ -326,8 +326,8 @@ fn main() -> ! {
                 hprintln!("{}_{}={}", key, $name, k)
             }};
         }
-        r!("lecture", |o, _, _, s, d| lecture(o, d, s));
-        r!("lecture_vsqrt", |o, _, _, s, d| lecture_vsqrt(o, d, s));
+        r!("textbook", |o, _, _, s, d| textbook(o, d, s));
+        r!("textbook_vsqrt", |o, _, _, s, d| textbook_vsqrt(o, d, s));
         r!("default_per_ray", |o, _, _, s, d| default_per_ray(o, d, s));
         // As shading tests them: any hit for the sun's shadow rays, the closest for mirror rays.
         match kind {
