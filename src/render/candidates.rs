@@ -273,7 +273,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
 
 /// The spheres kept as one light's shadow candidates for one hit group, as the sweep or the scan
 /// names them, into the span's pool: each render path weighs them its own way (`consider` and
-/// `finish` in `lanes.rs`, four at a time; in `scalar.rs`, one by one as they come).
+/// `finish` in `lanes/`, four at a time; in `scalar.rs`, one by one as they come).
 pub(super) struct Blockers<'c, const S: usize> {
     pub(super) light: &'c Light,
     pub(super) spheres: &'c [crate::Sphere],

@@ -2,7 +2,7 @@
 //! depends on whether the target has vector lanes (`cfg(lanes)`) and room for view directions
 //! (`cfg(no_dirs)`), and size builds (`cfg(size_opt)`) leave out code for flash; build.rs sets
 //! all three (ARCHITECTURE.md has the table of variants). Which render path runs is chosen in
-//! `render/mod.rs` (`lanes.rs` or `scalar.rs`).
+//! `render/mod.rs` (`lanes/` or `scalar.rs`).
 
 use super::*;
 

@@ -73,7 +73,7 @@ pub(super) enum Kept {
 #[cfg_attr(not(lanes), repr(C))]
 pub(super) struct Cull<const S: usize, const L: usize> {
     pub(super) hit_t: [f32; SPAN * KEPT],
-    /// What the render path keeps besides (`lanes.rs`, `scalar.rs`): the view directions, and on
+    /// What the render path keeps besides (`lanes/`, `scalar.rs`): the view directions, and on
     /// hosts the span's shaded pixels and the tile's rows.
     pub(super) path: PathState,
     pub(super) hit_s: [u16; SPAN * KEPT],

@@ -1,6 +1,6 @@
 //! Primary rays: the closest hit of a ray from the eye among all spheres or a span's candidates,
 //! and the hit records built from what a span kept. A span's own tracing is each render path's
-//! `trace_span` (`lanes.rs`, `scalar.rs`).
+//! `trace_span` (`lanes/`, `scalar.rs`).
 
 use super::*;
 

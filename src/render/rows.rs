@@ -1,5 +1,5 @@
 //! Pixels, rows and bands: the public render calls, the pixel loop, the row iterator, and the
-//! brute-force reference path. Each render path (`lanes.rs`, `scalar.rs`) fills its rows its own
+//! brute-force reference path. Each render path (`lanes/`, `scalar.rs`) fills its rows its own
 //! way (`rows_into`; hosts in tiles).
 
 use super::*;

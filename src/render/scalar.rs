@@ -1,7 +1,8 @@
 //! The Cortex-M render path (no vector lanes): a span's primary rays traced one ray at a time
 //! (sphere by sphere over each box's columns; on the M0, without kept directions, pixel by
 //! pixel in `Frame::gather`), its pixels shaded one at a time as the row asks for them, in a
-//! row's worth of state that fits a microcontroller's stack. `lanes.rs` is the host path, which computes the same pixels.
+//! row's worth of state that fits a microcontroller's stack. `lanes/` is the host path, which
+//! computes the same pixels.
 
 use super::*;
 

@@ -1,5 +1,5 @@
 //! Shading a span's pixels from their stored hits, with the shadow tests over the span's
-//! candidate lists (four pixels at a time on hosts: `lanes.rs`).
+//! candidate lists (four pixels at a time on hosts: `lanes/shade.rs`).
 
 use super::*;
 

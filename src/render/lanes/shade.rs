@@ -1,0 +1,174 @@
+//! The host path's shading: a span's stored hits four neighbouring pixels at a time, one lane
+//! pass per sphere, each lane the scalar shading's operations in the scalar order.
+
+use super::*;
+
+impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
+    /// Shades the span's stored primary hits four neighbouring pixels at a time, one lane pass
+    /// for each sphere that is not a mirror among the four ([`shade_lit4`](crate::shading)),
+    /// into `cull.path.px`, marking them in `cull.path.done`: the pixels `next_pixel` would compute one
+    /// by one, bit for bit (the hit records built lane by lane as `make_hit` builds them, the
+    /// shadow tests the scalar ones, asked for the same lanes and lights). Misses are marked
+    /// done too (`px` starts as the background); every other pixel is left to the scalar path.
+    #[inline(never)]
+    pub(super) fn shade_span4(&self, cull: &mut Cull<S, L>) {
+        let len = cull.span_len();
+        let (mut done, mut px) = (0u32, [cull.miss; SPAN]);
+        let mut m = 0;
+        while m + 4 <= len {
+            // Pixels `k0..k0 + 4`, whose hits are in slots `q..q + 4`.
+            let (k0, q) = (m, cull.slot(m));
+            m += 4;
+            let [dx, dy, dz] = &cull.path.hit_dc;
+            let lanes = |a: &[f32; DPAD]| -> Option<[f32; 4]> { a.get(q..q + 4)?.try_into().ok() };
+            let (Some(ss), Some(ts), Some(x), Some(y), Some(z)) = (
+                cull.hit_s.get(q..q + 4),
+                cull.hit_t.get(q..q + 4),
+                lanes(dx),
+                lanes(dy),
+                lanes(dz),
+            ) else {
+                break;
+            };
+            // Misses show the background, which `px` already holds: done, whatever the rest.
+            let none = (0..4).fold(0u32, |b, l| b | ((ss[l] == NONE) as u32) << l);
+            done |= none << k0;
+            let hits = !none & 0b1111;
+            if hits == 0b1111 && ss.iter().all(|&x| x == ss[0]) {
+                let colour = self.shade4::<true>(cull, q, ss[0] as usize, hits, ts, [x, y, z]);
+                keep4(self, &mut px, &mut done, k0, hits, colour);
+            } else if hits != 0 {
+                self.shade4_mixed(cull, (k0, q), ss, hits, ts, [x, y, z], &mut px, &mut done);
+            }
+        }
+        cull.path.px = px;
+        cull.path.done = done;
+    }
+
+    /// [`Frame::shade_span4`]'s groups of four whose hits are not all on one sphere (an edge):
+    /// one lane pass per sphere, each keeping the lanes that hit it, rather than leaving such a
+    /// group to the scalar path pixel by pixel (scenes of many small spheres have many edges).
+    /// Out of line, so that the common group's code keeps its values in registers.
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn shade4_mixed(
+        &self,
+        cull: &Cull<S, L>,
+        (k0, q): (usize, usize),
+        ss: &[u16],
+        hits: u32,
+        ts: &[f32],
+        xyz: [[f32; 4]; 3],
+        px: &mut [Rgb888; SPAN],
+        done: &mut u32,
+    ) {
+        let mut todo = hits;
+        while let Some(&s) = ss.get(todo.trailing_zeros() as usize) {
+            let active = (0..4).fold(0u32, |b, l| b | ((ss.get(l) == Some(&s)) as u32) << l) & todo;
+            todo &= !active;
+            let colour = self.shade4::<false>(cull, q, s as usize, active, ts, xyz);
+            keep4(self, px, done, k0, active, colour);
+        }
+    }
+
+    /// The colours of the lanes `active` of the span's four stored hits from slot `q`, all on
+    /// sphere `si` (`ts` their t, `dir` their view directions by coordinate), shaded in lanes
+    /// as `shade_span4` describes; the other lanes' values are meaningless. `None` where the
+    /// scalar path must shade them (a mirror, a case `shade_lit4` leaves). `ALL`: all four lanes
+    /// (the common group); a parameter so that the common group and `shade4_mixed` each get a
+    /// copy of their own, whose shadow-test closure is inlined (shared, it goes out of line).
+    #[inline(always)]
+    pub(super) fn shade4<const ALL: bool>(
+        &self,
+        cull: &Cull<S, L>,
+        q: usize,
+        si: usize,
+        active: u32,
+        ts: &[f32],
+        [x, y, z]: [[f32; 4]; 3],
+    ) -> Option<crate::simd::V> {
+        use crate::shading::{in_shadow4, shade_lit4, Hits4};
+        use crate::simd::{bits, F, V};
+        use crate::simd::{CmpGt, CmpLe, CmpLt};
+        let scene = self.scene;
+        let active = if ALL { 0b1111 } else { active };
+        let (k, sphere) = (self.tables.eye.get(si)?, scene.spheres().get(si)?);
+        if scene.has_mirror(si) && scene.max_depth() > 0 {
+            return None;
+        }
+        let dir = V {
+            x: F::from(x),
+            y: F::from(y),
+            z: F::from(z),
+        };
+        let t = F::from(<[f32; 4]>::try_from(ts).ok()?);
+        let r = sphere.radius;
+        // `hit_point_within`'s offset: `f + t·d` within near2 radii, else the one the span's
+        // bounds kept, or without them (no shadow rays) `hit_point_far`'s, in lanes here.
+        let offset = if self.offset_near(si) {
+            V::splat(k.f).add(dir.mul(t))
+        } else {
+            match cull.hit_o.get(q..q + 4) {
+                Some(o) if cull.culled => V::from_lanes([o[0], o[1], o[2], o[3]]),
+                _ => crate::geometry::hit_point_far4(dir, t, k.f, sphere)?.1,
+            }
+        };
+        // `hit_from_offset` for rays from the eye (`path` zero).
+        let outward = offset.div(F::splat(r));
+        let path = V::splat(Vec3::ZERO).add(dir.mul(t));
+        let centre = F::splat(r * r).cmp_le(path.dot(path));
+        let anchor = V::select(centre, V::splat(sphere.center), V::splat(self.camera.eye()));
+        let rel = V::select(centre, offset, path);
+        let facing = dir.dot(outward).cmp_gt(F::ZERO);
+        let normal = V::select(facing, outward.neg(), outward);
+        let h = Hits4 {
+            t,
+            sphere: si,
+            normal,
+            offset,
+            anchor,
+            rel,
+            dir,
+        };
+        let group = if cull.culled { cull.lists(si) } else { None };
+        let inside = bits(normal.dot(offset).cmp_lt(F::ZERO));
+        let blocked = |i: usize, light: &Light, ask: u32, to: &V| {
+            if !scene.shadows() {
+                return 0;
+            }
+            // No candidate: only lanes that see the sphere from inside need the test
+            // (`Frame::blocked`'s shortcut, four lanes at a time).
+            let cands = self.candidates(group, i);
+            let ask = if cands.is_empty() { ask & inside } else { ask };
+            if ask == 0 {
+                return 0;
+            }
+            let cs = self.light_consts(i, light);
+            let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
+            in_shadow4(scene, &h, light, to, ask, consts, cands)
+        };
+        shade_lit4(scene, &h, active, blocked)
+    }
+}
+
+/// Stores the encoded `colour` of the lanes `active` of the group at `k0` into `px`, marking
+/// them done; nothing when the lanes could not shade them (`None`: the scalar path will).
+#[inline(always)]
+pub(super) fn keep4<const S: usize, const L: usize>(
+    frame: &Frame<'_, S, L>,
+    px: &mut [Rgb888; SPAN],
+    done: &mut u32,
+    k0: usize,
+    active: u32,
+    colour: Option<crate::simd::V>,
+) {
+    let Some(colour) = colour else { return };
+    for (l, &c) in frame.encode4(&colour).iter().enumerate() {
+        if active & (1 << l) != 0 {
+            if let Some(p) = px.get_mut(k0 + l) {
+                *p = c;
+                *done |= 1 << (k0 + l);
+            }
+        }
+    }
+}
