@@ -30,7 +30,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             // `T_EPS`), where the bits order as the values do (M4F: integer compares, no
             // moves to and from the FPU's flags).
             let (mut t0, mut t1, mut next) = (t.to_bits(), t.to_bits(), slot + 1);
-            if let (Some(ss), Some(ts)) = (cull.hit_s.get(..slots.end), cull.hit_t.get(..slots.end))
+            if let (Some(ss), Some(ts)) =
+                (cull.hits.s.get(..slots.end), cull.hits.t.get(..slots.end))
             {
                 while let (Some(&s2), Some(&t)) = (ss.get(next), ts.get(next)) {
                     if s2 != s {
@@ -73,18 +74,18 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     #[inline(never)]
     pub(super) fn gather(&self, j: u32, cull: &mut Cull<S, L>) {
         let (i0, i1) = (cull.span_start, cull.span_end);
-        cull.span.clear();
-        for &s in &cull.row {
+        cull.spheres.span.clear();
+        for &s in &cull.spheres.row {
             if let Some(b) = self.tables.boxes.get(s as usize) {
                 if (b.i0 as u32) < i1 && b.i1 as u32 >= i0 {
-                    let _ = cull.span.push(s);
+                    let _ = cull.spheres.span.push(s);
                 }
             }
         }
-        cull.culled = false;
-        cull.kept = Kept::Nothing;
+        cull.shadow.culled = false;
+        cull.hits.kept = Kept::Nothing;
         // No group until this span's: `lists` finds none where the span builds no lists.
-        cull.groups = [NONE; GROUPS];
+        cull.shadow.groups = [NONE; GROUPS];
         // Without shadow rays the span needs no bounds, but with one sample a pixel its hits
         // are still traced here, in one tight loop over the span, and kept for shading.
         let kept = (self.samples * self.samples) as usize <= KEPT;
@@ -96,12 +97,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // and the box of each group's points.
         let mut bounds = Bounds::new();
         // Slots whose hit joins no group (a miss, or no point) get no lists: every sphere.
-        cull.hit_g.fill(NO_GROUP);
-        if self.samples == 1 && cull.span.is_empty() {
+        cull.hits.g.fill(NO_GROUP);
+        if self.samples == 1 && cull.spheres.span.is_empty() {
             // No sphere's box meets the span (the sky above the scene): every ray misses, and
             // none needs building.
-            cull.hit_s.fill(NONE);
-            cull.kept = Kept::Pixels;
+            cull.hits.s.fill(NONE);
+            cull.hits.kept = Kept::Pixels;
         } else {
             // Every sample's hit joins the bounds; the hits are also kept for shading where
             // there is room (`KEPT`), the samples outermost so that their offsets (the divides
@@ -133,8 +134,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                             while slot < end {
                                 let four = (slot + 4 <= end)
                                     .then(|| {
-                                        let s = cull.hit_s.get(slot..slot + 4)?;
-                                        let p = cull.hit_p.get(slot..slot + 4)?;
+                                        let s = cull.hits.s.get(slot..slot + 4)?;
+                                        let p = cull.hits.p.get(slot..slot + 4)?;
                                         let same = s[0] != NONE && s.iter().all(|&x| x == s[0]);
                                         same.then(|| (s[0], box4(p)))
                                     })
@@ -148,7 +149,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                     continue;
                                 }
                                 if let (Some((_, s)), Some(&p)) =
-                                    (cull.hit(slot), cull.hit_p.get(slot))
+                                    (cull.hit(slot), cull.hits.p.get(slot))
                                 {
                                     cull.set_group(
                                         slot..slot + 1,
@@ -170,12 +171,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         let slot = base + k;
                         // `primary_ray(i, j, sx, sy, n)`, the same bits.
                         let ray = row.ray(i as f32 + ox);
-                        let h = self.primary_among(&ray, i, &cull.span);
+                        let h = self.primary_among(&ray, i, &cull.spheres.span);
                         if h.is_some() {
                             // Only a hit is shaded with its ray.
                             cull.set_dir(slot, ray.dir);
                         }
-                        let (t, s) = (cull.hit_t.get_mut(slot), cull.hit_s.get_mut(slot));
+                        let (t, s) = (cull.hits.t.get_mut(slot), cull.hits.s.get_mut(slot));
                         if let (Some(t), Some(s)) = (t, s) {
                             (*t, *s) = h.map_or((0.0, NONE), |(t, s)| (t, s as u16));
                         }
@@ -186,7 +187,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     }
                 }
             }
-            cull.kept = if n == 1 {
+            cull.hits.kept = if n == 1 {
                 Kept::Pixels
             } else if kept {
                 Kept::Samples
@@ -197,10 +198,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if !self.shadow_rays {
             return;
         }
-        cull.culled = true;
-        cull.pool.clear();
+        cull.shadow.culled = true;
+        cull.shadow.pool.clear();
         for g in 0..GROUPS {
-            let (Some(slot), Some(ranges)) = (cull.groups.get_mut(g), cull.ranges.get_mut(g))
+            let (Some(slot), Some(ranges)) =
+                (cull.shadow.groups.get_mut(g), cull.shadow.ranges.get_mut(g))
             else {
                 continue;
             };
@@ -230,9 +232,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 if !bounded {
                     continue;
                 }
-                let start = cull.pool.len() as u16;
+                let start = cull.shadow.pool.len() as u16;
                 let spheres = self.scene.spheres();
-                let mut blockers = Blockers::new(light, spheres, q, rho, &mut cull.pool);
+                let mut blockers = Blockers::new(light, spheres, q, rho, &mut cull.shadow.pool);
                 let mut consider = |s: u16| {
                     // Not a group's own sphere: the shadow test skips the hit's sphere among
                     // its candidates (it finds the ray's exit from it analytically), so listing
@@ -262,9 +264,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let full = blockers.finish();
                 if full {
                     // Out of room: this light tests every sphere for this group.
-                    cull.pool.truncate(start as usize);
+                    cull.shadow.pool.truncate(start as usize);
                 } else {
-                    *range = Candidates::listed(start, cull.pool.len() as u16);
+                    *range = Candidates::listed(start, cull.shadow.pool.len() as u16);
                 }
             }
         }

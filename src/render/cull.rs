@@ -48,7 +48,7 @@ impl Candidates {
     }
 }
 
-/// Which primary hits a span kept for shading (`Cull::kept`).
+/// Which primary hits a span kept for shading (`SpanHits::kept`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Kept {
     /// None: shading traces each pixel's rays again.
@@ -62,66 +62,99 @@ pub(super) enum Kept {
     Samples,
 }
 
-/// The candidate lists of the span being traced: the row's spheres, the span's, and for each
-/// light the spheres that can block its shadow rays from the span's primary hits (all kept in
-/// one pool of `S` indices; a light that does not fit tests every sphere).
-///
-/// On Cortex-M `repr(C)`, the per-slot arrays first, so that a new row's zeros (`Cull::new`)
-/// are written straight into the `Row` that `Frame::row` returns, not built in a temporary and
-/// copied. Hosts keep the compiler's layout: `repr(C)` gains them nothing.
+/// The per-row state of the pixel loop: the current span's primary hits, the spheres primary
+/// rays test, and the shadow candidate lists of the span's hit groups. `repr(C)` on Cortex-M:
+/// see [`SpanHits`].
 #[derive(Debug)]
 #[cfg_attr(not(lanes), repr(C))]
 pub(super) struct Cull<const S: usize, const L: usize> {
-    pub(super) hit_t: [f32; SPAN * KEPT],
+    /// The span's primary hits, slot by slot (first: see [`SpanHits`]).
+    pub(super) hits: SpanHits,
+    pub(super) spheres: Spheres<S>,
+    pub(super) shadow: ShadowLists<S, L>,
+    /// The span: columns `span_start..span_end` of the row.
+    pub(super) span_start: u32,
+    pub(super) span_end: u32,
+    /// The pixel of every primary ray that hits nothing.
+    pub(super) miss: Rgb888,
+}
+
+/// The primary hits a span keeps for its bounds and shading, slot by slot (see [`Kept`]).
+///
+/// On Cortex-M `repr(C)`, the per-slot arrays first (and [`Cull`] starts with them), so that a
+/// new row's zeros (`Cull::new`) are written straight into the `Row` that `Frame::row` returns,
+/// not built in a temporary and copied. Hosts keep the compiler's layout: `repr(C)` gains them
+/// nothing.
+#[derive(Debug)]
+#[cfg_attr(not(lanes), repr(C))]
+pub(super) struct SpanHits {
+    /// Each slot's `t`.
+    pub(super) t: [f32; SPAN * KEPT],
     /// What the render path keeps besides (`lanes/`, `scalar.rs`): the view directions, and on
     /// hosts the span's shaded pixels and the tile's rows.
     pub(super) path: PathState,
-    pub(super) hit_s: [u16; SPAN * KEPT],
-    /// Where `culled`, the hit group of each slot's hit (`NO_GROUP`: none), whose shadow lists
-    /// shading takes without searching the groups for the hit's sphere.
-    pub(super) hit_g: [u8; SPAN * KEPT],
+    /// Each slot's sphere (`NONE`: no hit).
+    pub(super) s: [u16; SPAN * KEPT],
+    /// Where the span has shadow lists, the hit group of each slot's hit (`NO_GROUP`: none),
+    /// whose lists shading takes without searching the groups for the hit's sphere.
+    pub(super) g: [u8; SPAN * KEPT],
+    /// Which primary hits the slots hold for shading.
+    pub(super) kept: Kept,
+    /// Where the span has shadow lists, each kept hit's point and offset from its sphere's
+    /// centre, which the span's bounds take and shading reuses (see [`OFFS`]); the offset only
+    /// for spheres beyond near2 (`Frame::offset_near`), whose offsets cost more than `f + t·d`.
+    pub(super) p: [Vec3; OFFS],
+    pub(super) o: [Vec3; OFFS],
+}
+
+/// The spheres primary rays test: those whose box crosses the row, and of those the ones whose
+/// box meets the span, in scene order.
+#[derive(Debug)]
+pub(super) struct Spheres<const S: usize> {
     pub(super) row: List<S>,
     pub(super) span: List<S>,
+}
+
+/// The shadow candidates of the span's hit groups: for each group and light the spheres that can
+/// block its shadow rays from the group's bound, all in one pool of `S` indices (a light that
+/// does not fit tests every sphere).
+#[derive(Debug)]
+pub(super) struct ShadowLists<const S: usize, const L: usize> {
     pub(super) pool: List<S>,
     /// The sphere of each hit group (`NONE`: unused, `REST`: every other sphere).
     pub(super) groups: [u16; GROUPS],
     /// Per group and light, its candidates.
     pub(super) ranges: [[Candidates; L]; GROUPS],
-    pub(super) span_start: u32,
-    pub(super) span_end: u32,
-    /// Shadow lists are valid for this span.
+    /// The lists are valid for this span.
     pub(super) culled: bool,
-    /// Which primary hits of the span `hit_t`, `hit_s` and `path`'s directions hold for shading.
-    pub(super) kept: Kept,
-    /// Where `culled`, each kept hit's point and offset from its sphere's centre, which the
-    /// span's bounds take and shading reuses (see [`OFFS`]); the offset only for spheres
-    /// beyond near2 (`Frame::offset_near`), whose offsets cost more than `f + t·d`.
-    pub(super) hit_p: [Vec3; OFFS],
-    pub(super) hit_o: [Vec3; OFFS],
-    /// The pixel of every primary ray that hits nothing.
-    pub(super) miss: Rgb888,
 }
 
 impl<const S: usize, const L: usize> Cull<S, L> {
     pub(super) fn new() -> Self {
         Cull {
-            row: heapless::Vec::new(),
-            span: heapless::Vec::new(),
-            pool: heapless::Vec::new(),
             // Zeros, which the compiler writes in place (one `memset`), wherever `gather` writes
             // the field before it is read: the groups, their ranges and the slots.
-            groups: [0; GROUPS],
-            ranges: [[Candidates::listed(0, 0); L]; GROUPS],
+            hits: SpanHits {
+                t: [0.0; SPAN * KEPT],
+                path: PathState::new(),
+                s: [0; SPAN * KEPT],
+                g: [0; SPAN * KEPT],
+                kept: Kept::Nothing,
+                p: [Vec3::ZERO; OFFS],
+                o: [Vec3::ZERO; OFFS],
+            },
+            spheres: Spheres {
+                row: heapless::Vec::new(),
+                span: heapless::Vec::new(),
+            },
+            shadow: ShadowLists {
+                pool: heapless::Vec::new(),
+                groups: [0; GROUPS],
+                ranges: [[Candidates::listed(0, 0); L]; GROUPS],
+                culled: false,
+            },
             span_start: 0,
             span_end: 0,
-            culled: false,
-            kept: Kept::Nothing,
-            hit_t: [0.0; SPAN * KEPT],
-            hit_s: [0; SPAN * KEPT],
-            hit_g: [0; SPAN * KEPT],
-            path: PathState::new(),
-            hit_p: [Vec3::ZERO; OFFS],
-            hit_o: [Vec3::ZERO; OFFS],
             miss: Rgb888::new(0, 0, 0),
         }
     }
@@ -129,7 +162,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
     /// The stored primary hit of the span's pixel `k`, as `(t, sphere)`.
     #[inline]
     pub(super) fn hit(&self, k: usize) -> Option<(f32, u16)> {
-        match (self.hit_t.get(k), self.hit_s.get(k)) {
+        match (self.hits.t.get(k), self.hits.s.get(k)) {
             (Some(&t), Some(&s)) if s != NONE => Some((t, s)),
             _ => None,
         }
@@ -138,7 +171,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
     /// Records that the hits in `slots` joined group `g` (see `hit_g`).
     #[inline(always)]
     pub(super) fn set_group(&mut self, slots: core::ops::Range<usize>, g: u8) {
-        if let Some(gs) = self.hit_g.get_mut(slots) {
+        if let Some(gs) = self.hits.g.get_mut(slots) {
             gs.fill(g);
         }
     }
@@ -146,12 +179,12 @@ impl<const S: usize, const L: usize> Cull<S, L> {
     /// The shadow lists of the primary hit in `slot` (see `hit_g`), when the span has them.
     #[inline(always)]
     pub(super) fn lists_at(&self, slot: usize) -> Option<Lists<'_, L>> {
-        if !self.culled {
+        if !self.shadow.culled {
             return None;
         }
         Some(Lists {
-            ranges: self.ranges.get(*self.hit_g.get(slot)? as usize)?,
-            pool: &self.pool,
+            ranges: self.shadow.ranges.get(*self.hits.g.get(slot)? as usize)?,
+            pool: &self.shadow.pool,
         })
     }
 
@@ -161,7 +194,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
     #[inline]
     pub(super) fn lists(&self, sphere: usize) -> Option<Lists<'_, L>> {
         let mut g = None;
-        for (k, &s) in self.groups.iter().enumerate() {
+        for (k, &s) in self.shadow.groups.iter().enumerate() {
             if s as usize == sphere && s < REST {
                 g = Some(k);
                 break;
@@ -171,8 +204,8 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             }
         }
         Some(Lists {
-            ranges: self.ranges.get(g?)?,
-            pool: &self.pool,
+            ranges: self.shadow.ranges.get(g?)?,
+            pool: &self.shadow.pool,
         })
     }
 }

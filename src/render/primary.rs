@@ -98,8 +98,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let (k, sphere, near) = self.eye_record(s)?;
         // Within near2 (`near`) the offset is `f + t·d`, cheaper to redo than to keep
         // (`hit_points_lanes` does not store it there).
-        let offset = match cull.hit_o.get(slot) {
-            Some(&offset) if cull.culled && !near => offset,
+        let offset = match cull.hits.o.get(slot) {
+            Some(&offset) if cull.shadow.culled && !near => offset,
             _ => hit_point_near(ray, t, k.f, sphere, near).1,
         };
         Some(hit_from_offset(

@@ -134,10 +134,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
 
     /// Starts row `j`: its spheres are those whose box crosses it, in scene order.
     pub(super) fn start_row(&self, j: u32, cull: &mut Cull<S, L>) {
-        cull.row.clear();
+        cull.spheres.row.clear();
         for (s, b) in self.tables.boxes.iter().enumerate() {
             if b.has_row(j) {
-                let _ = cull.row.push(s as u16);
+                let _ = cull.spheres.row.push(s as u16);
             }
         }
         self.start_miss(cull);
@@ -179,7 +179,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Pixel `(i, j)` of the span gathered in `cull`, shaded on its own.
     #[inline(always)]
     pub(super) fn span_pixel(&self, j: u32, i: u32, cull: &Cull<S, L>) -> Rgb888 {
-        let c = if cull.kept == Kept::Pixels {
+        let c = if cull.hits.kept == Kept::Pixels {
             let k = cull.slot((i - cull.span_start) as usize);
             // A miss: the pixel `start_row` shaded for all of them (gather built no ray).
             let Some((t, s)) = cull.hit(k) else {
@@ -204,7 +204,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 self.eye_hit(&Ray::new(self.camera.eye(), dir), t, s as usize)
             };
             self.shade_from(&ray, first, cull.lists_at(k))
-        } else if KEPT > 1 && cull.kept == Kept::Samples {
+        } else if KEPT > 1 && cull.hits.kept == Kept::Samples {
             let k = (i - cull.span_start) as usize;
             // `average`'s sum, in its order, of the samples' kept hits (slot `m·SPAN + k`).
             let n = self.samples;
@@ -220,7 +220,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             sum / (n * n) as f32
         } else {
             self.average(i, j, |ray| {
-                let hit = self.primary_hit_among(ray, i, &cull.span);
+                let hit = self.primary_hit_among(ray, i, &cull.spheres.span);
                 let lists = hit.as_ref().and_then(|h| cull.lists(h.sphere));
                 self.shade_from(ray, hit, lists)
             })

@@ -41,9 +41,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     ) {
         let len = (i1 - i0) as usize;
         let (Some(dirs), Some(ts), Some(ss)) = (
-            cull.path.hit_d.get_mut(base..base + len),
-            cull.hit_t.get_mut(base..base + len),
-            cull.hit_s.get_mut(base..base + len),
+            cull.hits.path.hit_d.get_mut(base..base + len),
+            cull.hits.t.get_mut(base..base + len),
+            cull.hits.s.get_mut(base..base + len),
         ) else {
             return;
         };
@@ -58,7 +58,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             *s = NONE;
             column += 1.0;
         }
-        for &sphere in &cull.span {
+        for &sphere in &cull.spheres.span {
             let (Some(b), Some(k)) = (
                 self.tables.boxes.get(sphere as usize),
                 self.tables.eye.get(sphere as usize),
@@ -148,13 +148,13 @@ impl<const S: usize, const L: usize> Cull<S, L> {
     /// The view direction kept in slot `k` (none where `DIRS` keeps none).
     #[inline(always)]
     pub(super) fn dir(&self, k: usize) -> Option<Vec3> {
-        self.path.hit_d.get(k).copied()
+        self.hits.path.hit_d.get(k).copied()
     }
 
     /// Keeps `d` as the view direction of slot `k`, where there is room.
     #[inline(always)]
     pub(super) fn set_dir(&mut self, k: usize, d: Vec3) {
-        if let Some(a) = self.path.hit_d.get_mut(k) {
+        if let Some(a) = self.hits.path.hit_d.get_mut(k) {
             *a = d;
         }
     }

@@ -23,15 +23,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     ) {
         const PAD: usize = SPAN + crate::geometry::LANES - 1;
         let len = (i1 - i0) as usize;
-        let [dx, dy, dz] = &mut cull.path.hit_dc;
+        let [dx, dy, dz] = &mut cull.hits.path.hit_dc;
         fn lanes<const N: usize>(a: &mut [f32; DPAD], base: usize) -> Option<&mut [f32; N]> {
             a.get_mut(base..base + N)?.try_into().ok()
         }
         let (Some(ts), Some(ss), Some(ps), Some(os)) = (
-            cull.hit_t.get_mut(base..base + len),
-            cull.hit_s.get_mut(base..base + len),
-            cull.hit_p.get_mut(base..base + len),
-            cull.hit_o.get_mut(base..base + len),
+            cull.hits.t.get_mut(base..base + len),
+            cull.hits.s.get_mut(base..base + len),
+            cull.hits.p.get_mut(base..base + len),
+            cull.hits.o.get_mut(base..base + len),
         ) else {
             return;
         };
@@ -48,7 +48,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             ts,
             ss,
             points,
-            &cull.span,
+            &cull.spheres.span,
             (i0, i1, ox, y, row),
         );
     }
@@ -255,7 +255,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     #[inline(always)]
     pub(super) fn span_output(&self, _j: u32, i: u32, cull: &Cull<S, L>) -> Rgb888 {
         let k = (i - cull.span_start) as usize;
-        cull.path.px.get(k).copied().unwrap_or(cull.miss)
+        cull.hits.path.px.get(k).copied().unwrap_or(cull.miss)
     }
 
     /// What a span does once gathered: hosts shade all its pixels ([`Frame::fill_span`]).
@@ -264,19 +264,19 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         self.fill_span(j, cull);
     }
 
-    /// Every pixel of the span just gathered into `cull.path.px`: groups of four in lanes
+    /// Every pixel of the span just gathered into `cull.hits.path.px`: groups of four in lanes
     /// (`shade_span4`), the others one by one, so that the pixel loop only reads them.
     #[inline(never)]
     pub(super) fn fill_span(&self, j: u32, cull: &mut Cull<S, L>) {
-        cull.path.done = 0;
-        if cull.kept == Kept::Pixels {
+        cull.hits.path.done = 0;
+        if cull.hits.kept == Kept::Pixels {
             self.shade_span4(cull);
         }
         let len = cull.span_len();
         let span = if len >= 32 { u32::MAX } else { (1 << len) - 1 };
-        for k in crate::simd::ones(!cull.path.done & span) {
+        for k in crate::simd::ones(!cull.hits.path.done & span) {
             let c = self.span_pixel(j, cull.span_start + k as u32, cull);
-            if let Some(p) = cull.path.px.get_mut(k) {
+            if let Some(p) = cull.hits.path.px.get_mut(k) {
                 *p = c;
             }
         }
@@ -285,13 +285,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// [`Frame::start_row`] for the `n` rows from `j` that a span gathers at once (a tile,
     /// `Cull::rows`): their spheres are those whose box crosses any of them.
     pub(super) fn start_rows(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
-        cull.row.clear();
+        cull.spheres.row.clear();
         for (s, b) in self.tables.boxes.iter().enumerate() {
             if (j..j + n).any(|r| b.has_row(r)) {
-                let _ = cull.row.push(s as u16);
+                let _ = cull.spheres.row.push(s as u16);
             }
         }
-        cull.path.rows = n;
+        cull.hits.path.rows = n;
         self.start_miss(cull);
     }
 
@@ -337,9 +337,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 cull.span_end = (i + SPAN as u32).min(self.width());
                 self.gather(j, &mut cull);
                 for r in 0..rows {
-                    cull.path.base = r as usize * SPAN;
+                    cull.hits.path.base = r as usize * SPAN;
                     self.fill_span(j + r, &mut cull);
-                    let px = cull.path.px.get(..cull.span_len()).unwrap_or(&[]);
+                    let px = cull.hits.path.px.get(..cull.span_len()).unwrap_or(&[]);
                     out(TileRow { i, j: j + r, px })?;
                 }
             }
@@ -400,13 +400,13 @@ impl<const S: usize, const L: usize> Cull<S, L> {
     /// The rows the span gathers at once.
     #[inline(always)]
     pub(super) fn rows(&self) -> u32 {
-        self.path.rows
+        self.hits.path.rows
     }
 
     /// The slot of pixel `k` of the row being shaded.
     #[inline(always)]
     pub(super) fn slot(&self, k: usize) -> usize {
-        self.path.base + k
+        self.hits.path.base + k
     }
 
     /// Pixels in the current span.
@@ -418,14 +418,14 @@ impl<const S: usize, const L: usize> Cull<S, L> {
     /// The view direction kept in slot `k`.
     #[inline(always)]
     pub(super) fn dir(&self, k: usize) -> Option<Vec3> {
-        let [x, y, z] = &self.path.hit_dc;
+        let [x, y, z] = &self.hits.path.hit_dc;
         Some(Vec3::new(*x.get(k)?, *y.get(k)?, *z.get(k)?))
     }
 
     /// Keeps `d` as the view direction of slot `k`.
     #[inline(always)]
     pub(super) fn set_dir(&mut self, k: usize, d: Vec3) {
-        for (a, v) in self.path.hit_dc.iter_mut().zip([d.x, d.y, d.z]) {
+        for (a, v) in self.hits.path.hit_dc.iter_mut().zip([d.x, d.y, d.z]) {
             if let Some(a) = a.get_mut(k) {
                 *a = v;
             }

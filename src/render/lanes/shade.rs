@@ -6,7 +6,7 @@ use super::*;
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Shades the span's stored primary hits four neighbouring pixels at a time, one lane pass
     /// for each sphere that is not a mirror among the four ([`shade_lit4`](crate::shading)),
-    /// into `cull.path.px`, marking them in `cull.path.done`: the pixels `next_pixel` would compute one
+    /// into `cull.hits.path.px`, marking them in `cull.hits.path.done`: the pixels `next_pixel` would compute one
     /// by one, bit for bit (the hit records built lane by lane as `make_hit` builds them, the
     /// shadow tests the scalar ones, asked for the same lanes and lights). Misses are marked
     /// done too (`px` starts as the background); every other pixel is left to the scalar path.
@@ -19,11 +19,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             // Pixels `k0..k0 + 4`, whose hits are in slots `q..q + 4`.
             let (k0, q) = (m, cull.slot(m));
             m += 4;
-            let [dx, dy, dz] = &cull.path.hit_dc;
+            let [dx, dy, dz] = &cull.hits.path.hit_dc;
             let lanes = |a: &[f32; DPAD]| -> Option<[f32; 4]> { a.get(q..q + 4)?.try_into().ok() };
             let (Some(ss), Some(ts), Some(x), Some(y), Some(z)) = (
-                cull.hit_s.get(q..q + 4),
-                cull.hit_t.get(q..q + 4),
+                cull.hits.s.get(q..q + 4),
+                cull.hits.t.get(q..q + 4),
                 lanes(dx),
                 lanes(dy),
                 lanes(dz),
@@ -41,8 +41,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 self.shade4_mixed(cull, (k0, q), ss, hits, ts, [x, y, z], &mut px, &mut done);
             }
         }
-        cull.path.px = px;
-        cull.path.done = done;
+        cull.hits.path.px = px;
+        cull.hits.path.done = done;
     }
 
     /// [`Frame::shade_span4`]'s groups of four whose hits are not all on one sphere (an edge):
@@ -108,8 +108,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let offset = if self.offset_near(si) {
             V::splat(k.f).add(dir.mul(t))
         } else {
-            match cull.hit_o.get(q..q + 4) {
-                Some(o) if cull.culled => V::from_lanes([o[0], o[1], o[2], o[3]]),
+            match cull.hits.o.get(q..q + 4) {
+                Some(o) if cull.shadow.culled => V::from_lanes([o[0], o[1], o[2], o[3]]),
                 _ => crate::geometry::hit_point_far4(dir, t, k.f, sphere)?.1,
             }
         };
@@ -130,7 +130,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             rel,
             dir,
         };
-        let group = if cull.culled { cull.lists(si) } else { None };
+        let group = if cull.shadow.culled {
+            cull.lists(si)
+        } else {
+            None
+        };
         let inside = bits(normal.dot(offset).cmp_lt(F::ZERO));
         let blocked = |i: usize, light: &Light, ask: u32, to: &V| {
             if !scene.shadows() {
