@@ -10,7 +10,7 @@
 //! 598.5 built as the Cortex-M path (`bench/instructions.sh`, `MICRORAY_HOST_AS=m4f`).
 
 #[cfg(lanes)]
-use crate::math::Ieee;
+use crate::math::{Ieee, IeeeCmp};
 
 #[cfg(lanes)]
 impl Ieee for lanes::F {
@@ -21,6 +21,35 @@ impl Ieee for lanes::F {
     #[inline(always)]
     fn flip(self) -> lanes::F {
         lanes::neg(self)
+    }
+}
+
+#[cfg(lanes)]
+impl IeeeCmp for lanes::F {
+    type Mask = lanes::F;
+    #[inline(always)]
+    fn abs(self) -> lanes::F {
+        lanes::F::abs(self)
+    }
+    #[inline(always)]
+    fn lt(self, o: lanes::F) -> lanes::F {
+        lanes::CmpLt::cmp_lt(self, o)
+    }
+    #[inline(always)]
+    fn gt(self, o: lanes::F) -> lanes::F {
+        lanes::CmpGt::cmp_gt(self, o)
+    }
+    #[inline(always)]
+    fn not_gt(self, o: lanes::F) -> lanes::F {
+        lanes::CmpGt::cmp_gt(self, o) ^ lanes::F::splat(f32::from_bits(!0))
+    }
+    #[inline(always)]
+    fn select(m: lanes::F, a: lanes::F, b: lanes::F) -> lanes::F {
+        m.blend(a, b)
+    }
+    #[inline(always)]
+    fn select_lazy(m: lanes::F, a: impl FnOnce() -> lanes::F, b: lanes::F) -> lanes::F {
+        m.blend(a(), b)
     }
 }
 

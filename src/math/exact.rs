@@ -2,7 +2,7 @@
 //! Each is one definition generic over [`Ieee`], so the scalar path and the
 //! vector lanes compute the same bits.
 
-use core::ops::{Add, Mul, Sub};
+use core::ops::{Add, BitAnd, Div, Mul, Sub};
 
 /// The IEEE operations of the error-free transformations, on one f32 and (`cfg(lanes)`) on the
 /// four lanes of a vector: both run the one generic definition, the same operations in the same
@@ -23,6 +23,64 @@ impl Ieee for f32 {
     #[inline(always)]
     fn flip(self) -> f32 {
         -self
+    }
+}
+
+/// [`Ieee`] with division, absolute values and comparisons, for formulas with branches: a
+/// comparison gives a [`IeeeCmp::Mask`] (a `bool` for one f32, a lane mask for four) and a
+/// branch becomes [`IeeeCmp::select`] between both arms, so one definition gives the scalar
+/// answers in every lane. [`IeeeCmp::select_lazy`] keeps the scalar form's early exit: one f32
+/// computes the arm only when it is taken, the lanes compute it and blend.
+pub(crate) trait IeeeCmp: Ieee + Div<Output = Self> {
+    /// The outcome of a comparison.
+    type Mask: Copy + BitAnd<Output = Self::Mask>;
+    /// `|x|`: the sign cleared (`libm::fabsf` for one f32).
+    fn abs(self) -> Self;
+    /// `self < o` (false where either is NaN).
+    fn lt(self, o: Self) -> Self::Mask;
+    /// `self > o` (false where either is NaN).
+    fn gt(self, o: Self) -> Self::Mask;
+    /// `!(self > o)`: true where either is NaN.
+    fn not_gt(self, o: Self) -> Self::Mask;
+    /// `if m { a } else { b }`.
+    fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+    /// `if m { a() } else { b }`, `a` evaluated only where needed (one f32: only when `m`).
+    fn select_lazy(m: Self::Mask, a: impl FnOnce() -> Self, b: Self) -> Self;
+}
+
+impl IeeeCmp for f32 {
+    type Mask = bool;
+    #[inline(always)]
+    fn abs(self) -> f32 {
+        libm::fabsf(self)
+    }
+    #[inline(always)]
+    fn lt(self, o: f32) -> bool {
+        self < o
+    }
+    #[inline(always)]
+    fn gt(self, o: f32) -> bool {
+        self > o
+    }
+    #[inline(always)]
+    fn not_gt(self, o: f32) -> bool {
+        !(self > o)
+    }
+    #[inline(always)]
+    fn select(m: bool, a: f32, b: f32) -> f32 {
+        if m {
+            a
+        } else {
+            b
+        }
+    }
+    #[inline(always)]
+    fn select_lazy(m: bool, a: impl FnOnce() -> f32, b: f32) -> f32 {
+        if m {
+            a()
+        } else {
+            b
+        }
     }
 }
 

@@ -6,6 +6,7 @@
 
 use super::*;
 use crate::geometry::Sphere;
+use crate::math::IeeeCmp;
 use crate::raster::ETA;
 #[cfg(lanes)]
 use crate::simd::{bits, F, V};
@@ -72,18 +73,27 @@ pub(crate) trait LightKind {
     /// to every half-width, or `None` when a sweep cannot bound it (the light inside the ball).
     fn band(&self, q: Vec3, rho: f32, axis: Vec3, axis2: Vec3) -> Option<(f32, f32, f32)>;
 
-    /// Whether a sphere (centre `m`, radius `r`) can block a shadow ray towards the light from
-    /// some point of the ball `(q, rho)`: a conservative test, padded well beyond the rounding
-    /// of the shadow test itself and of this one. Hosts weigh candidates four at a time with
-    /// [`LightKind::may_block4`]; this stays the Arm path and the reference the lanes are
-    /// tested against (`lane_blockers_are_may_block`).
-    #[cfg_attr(lanes, allow(dead_code))]
-    fn may_block(&self, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool;
+    /// Whether spheres (centres `m` by coordinate, radii `r`) can block a shadow ray towards the
+    /// light from some point of the ball `(q, rho)`: a conservative test, padded well beyond the
+    /// rounding of the shadow test itself and of this one. One definition for one f32 and for
+    /// four lanes, so the lanes' answers are the scalar ones (`lane_blockers_are_may_block`).
+    fn may_block_of<T: IeeeCmp>(&self, m: [T; 3], r: T, q: Vec3, rho: f32) -> T::Mask;
 
-    /// [`LightKind::may_block`] of four spheres at once in vector lanes: the same operations
-    /// lane by lane, so the same answers, as bits `0..4`.
+    /// [`LightKind::may_block_of`] of one sphere: what the Cortex-M span culling filters by.
+    #[cfg_attr(lanes, allow(dead_code))]
+    #[inline]
+    fn may_block(&self, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
+        self.may_block_of([m.x, m.y, m.z], r, q, rho)
+    }
+
+    /// [`LightKind::may_block_of`] of four spheres at once in vector lanes, as bits `0..4`: what
+    /// hosts filter by.
     #[cfg(lanes)]
-    fn may_block4(&self, m: [Vec3; 4], r: [f32; 4], q: Vec3, rho: f32) -> u32;
+    #[inline(always)]
+    fn may_block4(&self, m: [Vec3; 4], r: [f32; 4], q: Vec3, rho: f32) -> u32 {
+        let (x, y, z) = lanes3(m);
+        bits(self.may_block_of([x, y, z], F::from(r), q, rho))
+    }
 
     /// [`LightKind::to_light`] and [`LightKind::unit_towards`] of four hits, or `None` when a
     /// lane of `active` needs the scalar path's guarded form.
@@ -218,55 +228,37 @@ impl LightKind for Point {
         Some((key, tan_theta + ANGLE_MARGIN, key2))
     }
 
-    #[inline]
-    fn may_block(&self, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
+    #[inline(always)]
+    fn may_block_of<T: IeeeCmp>(&self, [mx, my, mz]: [T; 3], r: T, q: Vec3, rho: f32) -> T::Mask {
         // Shadow rays run from the light to points of the ball: the segments fill the cone
         // hull of the light and the ball, whose section at λ ∈ [0, 1] along v = q − light is
         // the ball (light + λ v, λ ρ). The sphere misses it iff g(λ) = |w − λ v|² − (R + λ ρ)²
         // > 0 on [0, 1], w = m − light.
-        let w = m - self.position;
-        let v = q - self.position;
-        let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(w) + r);
-        let (ww, vv, wv) = (w.dot(w), v.dot(v), w.dot(v));
-        let a = vv - rho * rho;
-        let b = wv + big * rho;
-        let g0 = ww - big * big;
-        let g1 = a - 2.0 * b + g0;
-        let mut gmin = if g0 < g1 { g0 } else { g1 };
-        if a > 0.0 && b > 0.0 && b < a {
-            let gv = g0 - b * (b / a);
-            if gv < gmin {
-                gmin = gv;
-            }
-        }
-        let tol = 1e-5 * (ww + vv + big * big + rho * rho);
-        !(gmin > tol)
-    }
-
-    #[cfg(lanes)]
-    #[inline(always)]
-    fn may_block4(&self, m: [Vec3; 4], r: [f32; 4], q: Vec3, rho: f32) -> u32 {
-        use crate::simd::{CmpGt, CmpLt};
-        let v = F::splat;
-        let (mx, my, mz) = lanes3(m);
-        let r = F::from(r);
-        let (rho_v, eta2) = (v(rho), v(2.0 * ETA));
-        let position = self.position;
-        let (wx, wy, wz) = (mx - v(position.x), my - v(position.y), mz - v(position.z));
-        let qv = q - position;
-        let big = r * v(1.0 + 2e-4) + eta2 * (wx.abs() + wy.abs() + wz.abs() + r);
+        let v = T::splat;
+        let p = self.position;
+        let (wx, wy, wz) = (mx - v(p.x), my - v(p.y), mz - v(p.z));
+        let qv = q - p;
+        // |x| + |y| + |z| ≥ |w|: a wider pad without a square root.
+        let big = r * v(1.0 + 2e-4) + v(2.0 * ETA) * (wx.abs() + wy.abs() + wz.abs() + r);
         let (ww, vv) = (wx * wx + wy * wy + wz * wz, v(qv.dot(qv)));
         let wv = wx * v(qv.x) + wy * v(qv.y) + wz * v(qv.z);
         let a = vv - v(rho * rho);
-        let b = wv + big * rho_v;
+        let b = wv + big * v(rho);
         let g0 = ww - big * big;
         let g1 = a - v(2.0) * b + g0;
-        let gmin = g0.cmp_lt(g1).blend(g0, g1);
-        let inner = a.cmp_gt(F::ZERO) & b.cmp_gt(F::ZERO) & b.cmp_lt(a);
-        let gv = g0 - b * (b / a);
-        let gmin = (inner & gv.cmp_lt(gmin)).blend(gv, gmin);
+        let gmin = T::select(g0.lt(g1), g0, g1);
+        // The minimum inside (0, 1), where there is one.
+        let inner = a.gt(v(0.0)) & b.gt(v(0.0)) & b.lt(a);
+        let gmin = T::select_lazy(
+            inner,
+            || {
+                let gv = g0 - b * (b / a);
+                T::select(gv.lt(gmin), gv, gmin)
+            },
+            gmin,
+        );
         let tol = v(1e-5) * (ww + vv + big * big + v(rho * rho));
-        not_above(gmin, tol)
+        gmin.not_gt(tol)
     }
 
     #[cfg(lanes)]
@@ -360,41 +352,26 @@ impl LightKind for Directional {
         ))
     }
 
-    #[inline]
-    fn may_block(&self, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
+    #[inline(always)]
+    fn may_block_of<T: IeeeCmp>(&self, [mx, my, mz]: [T; 3], r: T, q: Vec3, rho: f32) -> T::Mask {
         // Shadow rays leave points of the ball along l = −direction: the sphere misses them
         // iff it stays farther than R + ρ from the half-line q + t l, t ≥ 0.
-        let l = -self.direction;
-        let w = m - q;
-        let s = w.dot(l);
-        let e = if s > 0.0 { w - l * s } else { w };
-        let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(w) + rho + r) + rho;
-        let d2 = e.dot(e);
-        let tol = 1e-5 * (w.dot(w) + big * big);
-        !(d2 - big * big > tol)
-    }
-
-    #[cfg(lanes)]
-    #[inline(always)]
-    fn may_block4(&self, m: [Vec3; 4], r: [f32; 4], q: Vec3, rho: f32) -> u32 {
-        use crate::simd::CmpGt;
-        let v = F::splat;
-        let (mx, my, mz) = lanes3(m);
-        let r = F::from(r);
-        let (rho_v, eta2) = (v(rho), v(2.0 * ETA));
+        let v = T::splat;
         let l = -self.direction;
         let (wx, wy, wz) = (mx - v(q.x), my - v(q.y), mz - v(q.z));
         let s = wx * v(l.x) + wy * v(l.y) + wz * v(l.z);
-        let ahead = s.cmp_gt(F::ZERO);
+        let ahead = s.gt(v(0.0));
         let (ex, ey, ez) = (
-            ahead.blend(wx - v(l.x) * s, wx),
-            ahead.blend(wy - v(l.y) * s, wy),
-            ahead.blend(wz - v(l.z) * s, wz),
+            T::select_lazy(ahead, || wx - v(l.x) * s, wx),
+            T::select_lazy(ahead, || wy - v(l.y) * s, wy),
+            T::select_lazy(ahead, || wz - v(l.z) * s, wz),
         );
-        let big = r * v(1.0 + 2e-4) + eta2 * (wx.abs() + wy.abs() + wz.abs() + rho_v + r) + rho_v;
+        let big = r * v(1.0 + 2e-4)
+            + v(2.0 * ETA) * (wx.abs() + wy.abs() + wz.abs() + v(rho) + r)
+            + v(rho);
         let d2 = ex * ex + ey * ey + ez * ez;
         let tol = v(1e-5) * (wx * wx + wy * wy + wz * wz + big * big);
-        not_above(d2 - big * big, tol)
+        (d2 - big * big).not_gt(tol)
     }
 
     #[cfg(lanes)]
@@ -433,14 +410,6 @@ fn lanes3(m: [Vec3; 4]) -> (F, F, F) {
         F::from(m.map(|c| c.y)),
         F::from(m.map(|c| c.z)),
     )
-}
-
-/// The lanes where `g ≤ tol` (or either is NaN), as bits `0..4`.
-#[cfg(lanes)]
-#[inline(always)]
-fn not_above(g: F, tol: F) -> u32 {
-    use crate::simd::CmpGt;
-    !(g.cmp_gt(tol)).move_mask() as u32 & 0b1111
 }
 
 /// `$body` with `$k` bound to the light's kind: the one place that matches on it.
@@ -494,14 +463,9 @@ impl LightKind for Light {
     fn band(&self, q: Vec3, rho: f32, axis: Vec3, axis2: Vec3) -> Option<(f32, f32, f32)> {
         per_kind!(self, k => k.band(q, rho, axis, axis2))
     }
-    #[inline]
-    fn may_block(&self, m: Vec3, r: f32, q: Vec3, rho: f32) -> bool {
-        per_kind!(self, k => k.may_block(m, r, q, rho))
-    }
-    #[cfg(lanes)]
     #[inline(always)]
-    fn may_block4(&self, m: [Vec3; 4], r: [f32; 4], q: Vec3, rho: f32) -> u32 {
-        per_kind!(self, k => k.may_block4(m, r, q, rho))
+    fn may_block_of<T: IeeeCmp>(&self, m: [T; 3], r: T, q: Vec3, rho: f32) -> T::Mask {
+        per_kind!(self, k => k.may_block_of(m, r, q, rho))
     }
     #[cfg(lanes)]
     #[inline(always)]
