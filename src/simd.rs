@@ -10,7 +10,7 @@
 //! 598.5 built as the Cortex-M path (`bench/instructions.sh`, `MICRORAY_HOST_AS=m4f`).
 
 #[cfg(lanes)]
-use crate::math::{Ieee, IeeeCmp};
+use crate::math::{Byte, Ieee, Ieee3, IeeeCmp, Vec3};
 
 #[cfg(lanes)]
 impl Ieee for lanes::F {
@@ -32,8 +32,16 @@ impl IeeeCmp for lanes::F {
         lanes::F::abs(self)
     }
     #[inline(always)]
+    fn sqrt(self) -> lanes::F {
+        lanes::F::sqrt(self)
+    }
+    #[inline(always)]
     fn lt(self, o: lanes::F) -> lanes::F {
         lanes::CmpLt::cmp_lt(self, o)
+    }
+    #[inline(always)]
+    fn le(self, o: lanes::F) -> lanes::F {
+        lanes::CmpLe::cmp_le(self, o)
     }
     #[inline(always)]
     fn gt(self, o: lanes::F) -> lanes::F {
@@ -44,12 +52,90 @@ impl IeeeCmp for lanes::F {
         lanes::CmpGt::cmp_gt(self, o) ^ lanes::F::splat(f32::from_bits(!0))
     }
     #[inline(always)]
+    fn positive_normal(self) -> lanes::F {
+        use lanes::CmpLe;
+        lanes::F::splat(f32::MIN_POSITIVE).cmp_le(self) & self.cmp_le(lanes::F::splat(f32::MAX))
+    }
+    #[inline(always)]
     fn select(m: lanes::F, a: lanes::F, b: lanes::F) -> lanes::F {
         m.blend(a, b)
     }
     #[inline(always)]
     fn select_lazy(m: lanes::F, a: impl FnOnce() -> lanes::F, b: lanes::F) -> lanes::F {
         m.blend(a(), b)
+    }
+    #[inline(always)]
+    fn bits(m: lanes::F) -> u32 {
+        lanes::bits(m)
+    }
+    #[inline(always)]
+    fn mask(bits: u32) -> lanes::F {
+        lanes::mask(bits)
+    }
+    #[inline(always)]
+    fn spec_pow(self, s: f32) -> Option<lanes::F> {
+        lanes::spec_pow(self, s)
+    }
+}
+
+#[cfg(lanes)]
+impl Byte for lanes::F {
+    type Out = lanes::I;
+    /// The saturating cast's cases as selections (NaN and below 0 give 0, 256 and above 255),
+    /// then a plain truncation of what is left, in `[0, 256)`.
+    #[inline(always)]
+    fn byte(self) -> lanes::I {
+        use lanes::{CmpGe, CmpLt, F};
+        let (zero, top, end) = (F::ZERO, F::splat(255.0), F::splat(256.0));
+        let outside = self.cmp_ge(end).blend(top, zero);
+        let v = (self.cmp_ge(zero) & self.cmp_lt(end)).blend(self, outside);
+        v.fast_trunc_int()
+    }
+}
+
+#[cfg(lanes)]
+impl Ieee3 for lanes::V {
+    type S = lanes::F;
+    #[inline(always)]
+    fn splat(v: Vec3) -> lanes::V {
+        lanes::V::splat(v)
+    }
+    #[inline(always)]
+    fn dot(self, o: lanes::V) -> lanes::F {
+        lanes::V::dot(self, o)
+    }
+    #[inline(always)]
+    fn add(self, o: lanes::V) -> lanes::V {
+        lanes::V::add(self, o)
+    }
+    #[inline(always)]
+    fn sub(self, o: lanes::V) -> lanes::V {
+        lanes::V::sub(self, o)
+    }
+    #[inline(always)]
+    fn neg(self) -> lanes::V {
+        lanes::V::neg(self)
+    }
+    #[inline(always)]
+    fn mul(self, s: lanes::F) -> lanes::V {
+        lanes::V::mul(self, s)
+    }
+    #[inline(always)]
+    fn div(self, s: lanes::F) -> lanes::V {
+        lanes::V::div(self, s)
+    }
+    #[inline(always)]
+    fn mul_elem(self, o: lanes::V) -> lanes::V {
+        lanes::V::mul_elem(self, o)
+    }
+    #[inline(always)]
+    fn select(m: lanes::F, a: lanes::V, b: lanes::V) -> lanes::V {
+        lanes::V::select(m, a, b)
+    }
+    /// The lanes leave the guarded form to the scalar path.
+    #[inline(always)]
+    fn normalized_or_zero(self) -> Option<lanes::V> {
+        None
     }
 }
 
@@ -208,11 +294,6 @@ pub(crate) mod lanes {
             let max = F::splat(f32::MAX);
             let ok = self.x.abs().cmp_le(max) & self.y.abs().cmp_le(max) & self.z.abs().cmp_le(max);
             bits(ok)
-        }
-        /// `Vec3::normalize_fast`: each coordinate divided by the length.
-        #[inline(always)]
-        pub(crate) fn normalize_fast(self) -> V {
-            self.div(self.dot(self).sqrt())
         }
         /// `a` in the lanes of `mask`, else `b`.
         #[inline(always)]

@@ -9,9 +9,11 @@ use core::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
 mod exact;
 mod func;
+mod ieee;
 
 pub use exact::*;
 pub use func::*;
+pub(crate) use ieee::{Byte, Ieee, Ieee3, IeeeCmp};
 
 /// A vector in 3-D space, also used for linear RGB colours.
 ///

@@ -1,6 +1,7 @@
 //! Pixel encoding: linear colour to bytes, linear or sRGB, one channel or four pixels at once.
 
 use super::*;
+use crate::math::Byte;
 
 /// How linear colour becomes a byte.
 ///
@@ -28,10 +29,10 @@ pub enum Encoding {
 /// ```
 #[inline]
 pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
-    let v = match encoding {
+    match encoding {
         // Not clamped first: 255c + 0.5 is monotone in c, so a c ≥ 1 gives ≥ 255.5 and a
-        // c ≤ 0 at most 0.5, which the cast below maps to 255 and 0 as the clamp would.
-        Encoding::Linear => 255.0 * c + 0.5,
+        // c ≤ 0 at most 0.5, which the saturating `byte` maps to 255 and 0 as the clamp would.
+        Encoding::Linear => byte_of(c),
         Encoding::Srgb => {
             let c = if c > 0.0 {
                 if c < 1.0 {
@@ -42,27 +43,16 @@ pub fn encode_channel(c: f32, encoding: Encoding) -> u8 {
             } else {
                 0.0
             };
-            255.0 * srgb(c) + 0.5
+            byte_of(srgb(c))
         }
-    };
-    // The cast saturates (NaN to 0), which a Cortex-M4F's `vcvt` does by itself, and truncates,
-    // which is floor for v ≥ 0; the clamp is one `usat` there.
-    (v as i32).clamp(0, 255) as u8
+    }
 }
 
-/// [`encode_channel`] with [`Encoding::Linear`] of four channel values in vector lanes: `255c +
-/// 0.5`, then the saturating cast's cases as selections (NaN and below 0 give 0, 256 and above
-/// 255) and a plain truncation of what is left, in `[0, 256)`: the same bytes, as integer lanes.
-#[cfg(lanes)]
+/// An encoded channel value `c` rounded to its byte: `255c + 0.5`, then truncated with
+/// saturation. For one f32 and for four lanes (`Frame::encode4`), so the same bytes.
 #[inline(always)]
-pub(super) fn linear_bytes(c: crate::simd::F) -> crate::simd::I {
-    use crate::simd::F;
-    use crate::simd::{CmpGe, CmpLt};
-    let v = F::splat(255.0) * c + F::splat(0.5);
-    let (zero, top, end) = (F::ZERO, F::splat(255.0), F::splat(256.0));
-    let outside = v.cmp_ge(end).blend(top, zero);
-    let v = (v.cmp_ge(zero) & v.cmp_lt(end)).blend(v, outside);
-    v.fast_trunc_int()
+pub(super) fn byte_of<T: Byte>(c: T) -> T::Out {
+    (T::splat(255.0) * c + T::splat(0.5)).byte()
 }
 
 /// The sRGB transfer curve on [0, 1]. Out of line: one copy for the three channels.
@@ -88,9 +78,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// [`Frame::encode`] of four colours in vector lanes (`cfg(lanes)`): `encode_channel`'s
-    /// `255c + 0.5` and its saturating cast lane by lane (the cast's cases as selections: NaN
-    /// and below 0 to 0, 256 and above to 255), the same bytes. sRGB goes channel by channel
-    /// through the scalar curve.
+    /// [`byte_of`] lane by lane, the same bytes. sRGB goes channel by channel through the
+    /// scalar curve.
     #[cfg(lanes)]
     #[inline(always)]
     pub(super) fn encode4(&self, c: &crate::simd::V) -> [Rgb888; 4] {
@@ -98,7 +87,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             return core::array::from_fn(|l| self.encode(c.lane(l)));
         }
         // The three bytes of each pixel in one integer lane: one extraction a pixel, not three.
-        let (r, g, b) = (linear_bytes(c.x), linear_bytes(c.y), linear_bytes(c.z));
+        let (r, g, b) = (byte_of(c.x), byte_of(c.y), byte_of(c.z));
         let rgb: crate::simd::I = r | (g << 8_i32) | (b << 16_i32);
         let rgb = rgb.to_array();
         rgb.map(|w| Rgb888::new(w as u8, (w >> 8) as u8, (w >> 16) as u8))

@@ -4,7 +4,7 @@
 mod lane_tests {
     use super::super::*;
 
-    /// `linear_bytes` is `encode_channel(_, Linear)` on every kind of value: the byte range and
+    /// `byte_of` in lanes is `encode_channel(_, Linear)` on every kind of value: the byte range and
     /// its edges, just below and above 0 and 1, values that round to 256, huge, infinite, NaN,
     /// negative zero and subnormals.
     #[test]
@@ -41,7 +41,7 @@ mod lane_tests {
         for c in xs.chunks(4) {
             let mut a = [0.0f32; 4];
             a[..c.len()].copy_from_slice(c);
-            let lanes = linear_bytes(crate::simd::F::from(a)).to_array();
+            let lanes = byte_of(crate::simd::F::from(a)).to_array();
             for (l, &x) in a.iter().enumerate() {
                 let byte = i32::from(encode_channel(x, Encoding::Linear));
                 assert_eq!(lanes[l], byte, "{x:e}");

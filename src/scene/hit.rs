@@ -1,6 +1,7 @@
 //! [`Hit`]: the record of a ray's closest hit, and where it is built.
 
 use super::*;
+use crate::math::{Ieee, Ieee3, IeeeCmp};
 
 /// Where a ray met the scene.
 ///
@@ -167,20 +168,7 @@ pub(crate) fn hit_from_offset(
     origin: Vec3,
     path: Vec3,
 ) -> Hit {
-    let ray = Ray::new(Vec3::ZERO, dir);
-    let outward = offset / sphere.radius;
-    let path = path + ray.dir * t;
-    // |offset| = r: the shorter vector by one comparison of squares.
-    let (anchor, rel) = if sphere.radius * sphere.radius <= path.dot(path) {
-        (sphere.center, offset)
-    } else {
-        (origin, path)
-    };
-    let normal = if ray.dir.dot(outward) > 0.0 {
-        -outward
-    } else {
-        outward
-    };
+    let [normal, anchor, rel] = hit_vectors(dir, t, sphere, offset, origin, path);
     Hit {
         t,
         sphere: i,
@@ -189,4 +177,27 @@ pub(crate) fn hit_from_offset(
         anchor,
         rel,
     }
+}
+
+/// [`Hit::normal`], [`Hit::anchor`] and [`Hit::rel`] of the hit at `t` along `dir` whose offset
+/// from the centre is `offset`, on a path that began at `origin` and had come `path` from it:
+/// for one hit or for four in lanes (the host renderer's, which builds its records so).
+#[inline(always)]
+pub(crate) fn hit_vectors<P: Ieee3>(
+    dir: P,
+    t: P::S,
+    sphere: &Sphere,
+    offset: P,
+    origin: P,
+    path: P,
+) -> [P; 3] {
+    let r = sphere.radius;
+    let outward = offset.div(<P::S as Ieee>::splat(r));
+    let path = path.add(dir.mul(t));
+    // |offset| = r: the shorter vector by one comparison of squares.
+    let centre = <P::S as Ieee>::splat(r * r).le(path.dot(path));
+    let anchor = P::select(centre, P::splat(sphere.center), origin);
+    let rel = P::select(centre, offset, path);
+    let facing = dir.dot(outward).gt(<P::S as Ieee>::splat(0.0));
+    [P::select(facing, outward.neg(), outward), anchor, rel]
 }

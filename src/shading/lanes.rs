@@ -1,10 +1,10 @@
-//! Four neighbouring hits on one sphere shaded at once in vector lanes (`cfg(lanes)`), each lane
-//! the scalar shading's operations in the scalar order.
+//! The shadow tests of four neighbouring hits on one sphere at once in vector lanes
+//! (`cfg(lanes)`), each lane the scalar test's operations in the scalar order.
 
 use super::*;
 
-/// Four hits on one sphere, in vector lanes (`cfg(lanes)`): [`Hit`]'s fields and the view
-/// direction of each, for [`shade_lit4`].
+/// Four hits on one sphere, in vector lanes (`cfg(lanes)`): [`Hit`]'s fields, for
+/// [`in_shadow4`].
 #[cfg(lanes)]
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Hits4 {
@@ -14,11 +14,10 @@ pub(crate) struct Hits4 {
     pub offset: V,
     pub anchor: V,
     pub rel: V,
-    pub dir: V,
 }
 
 #[cfg(lanes)]
-use crate::simd::{bits, mask, ones, F, V};
+use crate::simd::{bits, ones, F, V};
 
 #[cfg(lanes)]
 impl Hits4 {
@@ -34,71 +33,6 @@ impl Hits4 {
             rel: self.rel.lane(l),
         }
     }
-}
-
-/// [`shade_lit`] of four hits on one sphere (one material) at once, in vector lanes: lane `l`
-/// is `shade_lit(scene, &h.hit(l), h.dir.lane(l), …)`, bit for bit. Each step is the scalar
-/// step lane by lane (the same IEEE operations in the same order), a branch a selection
-/// between both arms. Only the lanes in `active` are asked for and checked; the others may
-/// hold any values (another sphere's hits), and their colours mean nothing.
-/// `blocked(i, light, ask, to)` answers for the lanes in `ask` (active ones with `n·l > 0`,
-/// which the scalar loop would ask) which are in shadow. `None` where an active lane leaves
-/// the common case (a light vector whose square leaves the normal range, a specular power
-/// that is not a whole number): the caller shades those pixels with the scalar code.
-#[cfg(lanes)]
-#[inline(always)]
-pub(crate) fn shade_lit4<const S: usize, const L: usize>(
-    scene: &Scene<S, L>,
-    h: &Hits4,
-    active: u32,
-    mut blocked: impl FnMut(usize, &Light, u32, &V) -> u32,
-) -> Option<V> {
-    use crate::simd::CmpGt;
-    let m = scene.materials().get(h.sphere)?;
-    let lights = scene.lights();
-    let n = h.normal;
-    let mut colour = V::splat(m.diffuse.mul_elem(scene.ambient()));
-    let has_specular = scene.has_specular(h.sphere);
-    let v = if has_specular && !lights.is_empty() {
-        h.dir.normalize_fast().neg()
-    } else {
-        V::splat(Vec3::ZERO)
-    };
-    let (kd, ks) = (V::splat(m.diffuse), V::splat(m.specular));
-    for (i, light) in lights.iter().enumerate() {
-        // `to_light` and `unit_towards`.
-        let (to, l) = light.towards4(h.anchor, h.rel, active)?;
-        let nl = n.dot(l);
-        let facing = nl.cmp_gt(F::ZERO);
-        let ask = bits(facing) & active;
-        if ask == 0 {
-            continue;
-        }
-        let shadowed = blocked(i, light, ask, &to);
-        if ask & !shadowed == 0 {
-            continue;
-        }
-        let lit = if shadowed == 0 {
-            facing
-        } else {
-            facing & !mask(shadowed)
-        };
-        let mut c = kd.mul(nl);
-        if has_specular {
-            let nh = n.dot(v.add(l).normalize_fast());
-            let shine = nh.cmp_gt(F::ZERO) & lit;
-            if bits(shine) != 0 {
-                let p = crate::simd::spec_pow(nh, m.shininess)?;
-                c = V::select(shine, c.add(ks.mul(p)), c);
-            }
-        }
-        colour = V::select(
-            lit,
-            colour.add(V::splat(light.intensity()).mul_elem(c)),
-            colour,
-        );
-    }
-    Some(colour)
 }
 
 /// [`in_shadow_among`] for the lanes `ask` of four hits on one sphere (`to` their

@@ -6,7 +6,7 @@
 
 use super::*;
 use crate::geometry::Sphere;
-use crate::math::IeeeCmp;
+use crate::math::{Ieee3, IeeeCmp};
 use crate::raster::ETA;
 #[cfg(lanes)]
 use crate::simd::{bits, F, V};
@@ -35,13 +35,14 @@ fn l1(w: Vec3) -> f32 {
 
 /// The behaviour of one kind of light.
 pub(crate) trait LightKind {
-    /// Where the light comes from at the hit point `anchor + rel` (see [`Hit::anchor`]): the
-    /// vector from the hit to a point light (the shadow ray, `0 < t < 1`) or the unit vector
-    /// towards a directional one.
-    fn to_light(&self, anchor: Vec3, rel: Vec3) -> Vec3;
+    /// Where the light comes from at the hit point `anchor + rel` (see [`Hit::anchor`]), for one
+    /// hit or four in lanes: the vector from the hit to a point light (the shadow ray,
+    /// `0 < t < 1`) or the unit vector towards a directional one.
+    fn to_light<P: Ieee3>(&self, anchor: P, rel: P) -> P;
 
-    /// The unit vector `l` along [`LightKind::to_light`]'s `v`.
-    fn unit_towards(&self, v: Vec3) -> Vec3;
+    /// The unit vector `l` along [`LightKind::to_light`]'s `v`, or `None` where a lane of
+    /// `active` needs the guarded form that only one f32 computes ([`Ieee3::normalized_or_zero`]).
+    fn unit_towards<P: Ieee3>(&self, v: P, active: u32) -> Option<P>;
 
     /// The point every shadow ray of this light starts from, when there is one (a point
     /// light's position): the frame keeps [`Prepared::exact`]'s `c` from it for every sphere.
@@ -95,11 +96,6 @@ pub(crate) trait LightKind {
         bits(self.may_block_of([x, y, z], F::from(r), q, rho))
     }
 
-    /// [`LightKind::to_light`] and [`LightKind::unit_towards`] of four hits, or `None` when a
-    /// lane of `active` needs the scalar path's guarded form.
-    #[cfg(lanes)]
-    fn towards4(&self, anchor: V, rel: V, active: u32) -> Option<(V, V)>;
-
     /// The lanes whose shadow ray along `to` only the scalar test takes (a point light's
     /// [`shadow_ray`] scaled up).
     #[cfg(lanes)]
@@ -136,21 +132,20 @@ impl Point {
 }
 
 impl LightKind for Point {
-    #[inline]
-    fn to_light(&self, anchor: Vec3, rel: Vec3) -> Vec3 {
-        (self.position - anchor) - rel
+    #[inline(always)]
+    fn to_light<P: Ieee3>(&self, anchor: P, rel: P) -> P {
+        P::splat(self.position).sub(anchor).sub(rel)
     }
 
-    #[inline]
-    fn unit_towards(&self, v: Vec3) -> Vec3 {
+    #[inline(always)]
+    fn unit_towards<P: Ieee3>(&self, v: P, active: u32) -> Option<P> {
         let ll = v.dot(v);
         // |v|² overflows beyond ~10¹⁹ and underflows below ~10⁻¹⁹: then the guarded form
-        // (and no light at all from a light exactly at p). A bit test: on a Cortex-M4F
-        // cheaper than the float comparisons, as `vsqrt` takes the bits in a core register.
-        if crate::math::positive_normal(ll) {
-            v / crate::math::sqrt(ll)
+        // (and no light at all from a light exactly at p).
+        if <P::S as IeeeCmp>::bits(ll.positive_normal()) & active == active {
+            Some(v.div(ll.sqrt()))
         } else {
-            v.normalized().unwrap_or(Vec3::ZERO)
+            v.normalized_or_zero()
         }
     }
 
@@ -263,19 +258,6 @@ impl LightKind for Point {
 
     #[cfg(lanes)]
     #[inline(always)]
-    fn towards4(&self, anchor: V, rel: V, active: u32) -> Option<(V, V)> {
-        use crate::simd::CmpLe;
-        let to = V::splat(self.position).sub(anchor).sub(rel);
-        let ll = to.dot(to);
-        let normal = F::splat(f32::MIN_POSITIVE).cmp_le(ll) & ll.cmp_le(F::splat(f32::MAX));
-        if bits(normal) & active != active {
-            return None;
-        }
-        Some((to, to.div(ll.sqrt())))
-    }
-
-    #[cfg(lanes)]
-    #[inline(always)]
     fn scalar_lanes(&self, to: &V) -> u32 {
         use crate::simd::CmpLt;
         bits(to.dot(*to).cmp_lt(F::splat(f32::from_bits(SMALL_VV))))
@@ -299,14 +281,14 @@ impl LightKind for Point {
 }
 
 impl LightKind for Directional {
-    #[inline]
-    fn to_light(&self, _anchor: Vec3, _rel: Vec3) -> Vec3 {
-        -self.direction
+    #[inline(always)]
+    fn to_light<P: Ieee3>(&self, _anchor: P, _rel: P) -> P {
+        P::splat(-self.direction)
     }
 
-    #[inline]
-    fn unit_towards(&self, v: Vec3) -> Vec3 {
-        v
+    #[inline(always)]
+    fn unit_towards<P: Ieee3>(&self, v: P, _active: u32) -> Option<P> {
+        Some(v)
     }
 
     #[inline(always)]
@@ -376,13 +358,6 @@ impl LightKind for Directional {
 
     #[cfg(lanes)]
     #[inline(always)]
-    fn towards4(&self, _anchor: V, _rel: V, _active: u32) -> Option<(V, V)> {
-        let to = V::splat(-self.direction);
-        Some((to, to))
-    }
-
-    #[cfg(lanes)]
-    #[inline(always)]
     fn scalar_lanes(&self, _to: &V) -> u32 {
         0
     }
@@ -429,13 +404,13 @@ macro_rules! per_kind {
 }
 
 impl LightKind for Light {
-    #[inline]
-    fn to_light(&self, anchor: Vec3, rel: Vec3) -> Vec3 {
+    #[inline(always)]
+    fn to_light<P: Ieee3>(&self, anchor: P, rel: P) -> P {
         per_kind!(self, k => k.to_light(anchor, rel))
     }
-    #[inline]
-    fn unit_towards(&self, v: Vec3) -> Vec3 {
-        per_kind!(self, k => k.unit_towards(v))
+    #[inline(always)]
+    fn unit_towards<P: Ieee3>(&self, v: P, active: u32) -> Option<P> {
+        per_kind!(self, k => k.unit_towards(v, active))
     }
     #[inline(always)]
     fn origin(&self) -> Option<Vec3> {
@@ -466,11 +441,6 @@ impl LightKind for Light {
     #[inline(always)]
     fn may_block_of<T: IeeeCmp>(&self, m: [T; 3], r: T, q: Vec3, rho: f32) -> T::Mask {
         per_kind!(self, k => k.may_block_of(m, r, q, rho))
-    }
-    #[cfg(lanes)]
-    #[inline(always)]
-    fn towards4(&self, anchor: V, rel: V, active: u32) -> Option<(V, V)> {
-        per_kind!(self, k => k.towards4(anchor, rel, active))
     }
     #[cfg(lanes)]
     #[inline(always)]

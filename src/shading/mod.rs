@@ -1,7 +1,8 @@
 //! The shading model: ambient, Lambert diffuse and Blinn–Phong specular under point and
 //! directional lights, hard shadows and mirror reflection. All of it is in this module: the
-//! model here, what each kind of light does in `lights.rs`, shadow rays in `shadow.rs`, four
-//! pixels at once in `lanes.rs`.
+//! local colour in `model.rs` (one definition for one hit and for four in lanes), what each
+//! kind of light does in `lights.rs`, shadow rays in `shadow.rs`, the shadow tests of four
+//! hits at once in `lanes.rs`, mirror bounces here.
 //!
 //! At a hit `p` with facing normal `n`, seen along `d`:
 //! `colour = k_d ⊙ ambient + Σ I ⊙ (k_d (n·l) + k_s max(0, n·h)^s)` over the lights with
@@ -13,96 +14,20 @@
 //! from inside), so there is no self-shadowing "acne" and no epsilon to tune.
 
 use crate::geometry::{exit_root, offset_is_near, Prepared, Ray, Sphere};
-use crate::math::{spec_pow, Color, Vec3};
+use crate::math::{Color, Vec3};
 use crate::scene::{make_hit, Hit, Light, Scene};
 
 #[cfg(lanes)]
 mod lanes;
 mod lights;
+mod model;
 mod shadow;
 
 #[cfg(lanes)]
 pub(crate) use lanes::*;
 pub(crate) use lights::LightKind;
+pub use model::*;
 pub use shadow::*;
-
-/// The local colour at a hit seen along `dir`: ambient plus every light for which
-/// `blocked(light_index)` is false. `blocked` is asked only for lights with `n·l > 0`.
-///
-/// ```
-/// use microray::{shading::shade_local, Color, Light, Material, Ray, Scene, Sphere, Vec3};
-/// let mut scene: Scene<1, 1> = Scene::new();
-/// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
-/// // a light straight above: the cosine law gives n·l = 1 at the top
-/// scene.add_light(Light::Directional { direction: Vec3::new(0.0, -1.0, 0.0), intensity: Color::ONE })?;
-/// let down = Ray::new(Vec3::new(0.0, 5.0, 0.0), Vec3::new(0.0, -1.0, 0.0));
-/// let hit = scene.find_intersection(&down, 0.0, 10.0).unwrap();
-/// assert_eq!(shade_local(&scene, &hit, down.dir, |_| false), Color::ONE);
-/// assert_eq!(shade_local(&scene, &hit, down.dir, |_| true), Color::ZERO);
-/// # Ok::<(), microray::Error>(())
-/// ```
-pub fn shade_local<const S: usize, const L: usize>(
-    scene: &Scene<S, L>,
-    hit: &Hit,
-    dir: Vec3,
-    mut blocked: impl FnMut(usize) -> bool,
-) -> Color {
-    shade_lit(scene, hit, dir, |i, _, _| blocked(i))
-}
-
-/// [`shade_local`] with `blocked(i, light, v)` also given the light and its [`to_light`] vector,
-/// which the shadow test needs too.
-#[inline]
-pub(crate) fn shade_lit<const S: usize, const L: usize>(
-    scene: &Scene<S, L>,
-    hit: &Hit,
-    dir: Vec3,
-    blocked: impl FnMut(usize, &Light, Vec3) -> bool,
-) -> Color {
-    shade_lit_inline(scene, hit, dir, blocked)
-}
-
-/// [`shade_lit`]'s body, for the renderer's scalar primary hits, which shade the hit record
-/// where they build it (`Frame::shade_stored`).
-#[inline(always)]
-pub(crate) fn shade_lit_inline<const S: usize, const L: usize>(
-    scene: &Scene<S, L>,
-    hit: &Hit,
-    dir: Vec3,
-    mut blocked: impl FnMut(usize, &Light, Vec3) -> bool,
-) -> Color {
-    // A hit always names a sphere of this scene; `get` keeps a bounds-check panic out of the
-    // render path (an invalid hit shades black).
-    let Some(m) = scene.materials().get(hit.sphere) else {
-        return Color::ZERO;
-    };
-    let n = hit.normal;
-    let mut colour = m.diffuse.mul_elem(scene.ambient());
-    let has_specular = scene.has_specular(hit.sphere);
-    // Only a highlight needs the view vector (and only when there is a light).
-    let v = if has_specular && !scene.lights().is_empty() {
-        -dir.normalize_fast()
-    } else {
-        Vec3::ZERO
-    };
-    for (i, light) in scene.lights().iter().enumerate() {
-        let to = light.to_light(hit.anchor, hit.rel);
-        let l = light.unit_towards(to);
-        let nl = n.dot(l);
-        if !(nl > 0.0) || blocked(i, light, to) {
-            continue;
-        }
-        let mut c = m.diffuse * nl;
-        if has_specular {
-            let nh = n.dot((v + l).normalize_fast());
-            if nh > 0.0 {
-                c += m.specular * spec_pow(nh, m.shininess);
-            }
-        }
-        colour += light.intensity().mul_elem(c);
-    }
-    colour
-}
 
 /// The shading of a hit: the local colour with shadows tested against the scene (when the scene
 /// has them on). Mirrors are followed by [`trace`].

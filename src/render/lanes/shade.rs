@@ -5,7 +5,7 @@ use super::*;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Shades the span's stored primary hits four neighbouring pixels at a time, one lane pass
-    /// for each sphere that is not a mirror among the four ([`shade_lit4`](crate::shading)),
+    /// for each sphere that is not a mirror among the four ([`shade_model`](crate::shading)),
     /// into `cull.hits.path.px`, marking them in `cull.hits.path.done`: the pixels `next_pixel` would compute one
     /// by one, bit for bit (the hit records built lane by lane as `make_hit` builds them, the
     /// shadow tests the scalar ones, asked for the same lanes and lights). Misses are marked
@@ -74,7 +74,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The colours of the lanes `active` of the span's four stored hits from slot `q`, all on
     /// sphere `si` (`ts` their t, `dir` their view directions by coordinate), shaded in lanes
     /// as `shade_span4` describes; the other lanes' values are meaningless. `None` where the
-    /// scalar path must shade them (a mirror, a case `shade_lit4` leaves). `ALL`: all four lanes
+    /// scalar path must shade them (a mirror, a case the lanes leave to it). `ALL`: all four lanes
     /// (the common group); a parameter so that the common group and `shade4_mixed` each get a
     /// copy of their own, whose shadow-test closure is inlined (shared, it goes out of line).
     #[inline(always)]
@@ -87,9 +87,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         ts: &[f32],
         [x, y, z]: [[f32; 4]; 3],
     ) -> Option<crate::simd::V> {
-        use crate::shading::{in_shadow4, shade_lit4, Hits4};
+        use crate::scene::hit_vectors;
+        use crate::shading::{in_shadow4, shade_model, Hits4};
+        use crate::simd::CmpLt;
         use crate::simd::{bits, F, V};
-        use crate::simd::{CmpGt, CmpLe, CmpLt};
         let scene = self.scene;
         let active = if ALL { 0b1111 } else { active };
         let (k, sphere) = (self.tables.eye.get(si)?, scene.spheres().get(si)?);
@@ -102,7 +103,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             z: F::from(z),
         };
         let t = F::from(<[f32; 4]>::try_from(ts).ok()?);
-        let r = sphere.radius;
         // `hit_point_within`'s offset: `f + t·d` within near2 radii, else the one the span's
         // bounds kept, or without them (no shadow rays) `hit_point_far`'s, in lanes here.
         let offset = if self.offset_near(si) {
@@ -114,13 +114,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
         };
         // `hit_from_offset` for rays from the eye (`path` zero).
-        let outward = offset.div(F::splat(r));
-        let path = V::splat(Vec3::ZERO).add(dir.mul(t));
-        let centre = F::splat(r * r).cmp_le(path.dot(path));
-        let anchor = V::select(centre, V::splat(sphere.center), V::splat(self.camera.eye()));
-        let rel = V::select(centre, offset, path);
-        let facing = dir.dot(outward).cmp_gt(F::ZERO);
-        let normal = V::select(facing, outward.neg(), outward);
+        let (eye, zero) = (V::splat(self.camera.eye()), V::splat(Vec3::ZERO));
+        let [normal, anchor, rel] = hit_vectors(dir, t, sphere, offset, eye, zero);
         let h = Hits4 {
             t,
             sphere: si,
@@ -128,7 +123,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             offset,
             anchor,
             rel,
-            dir,
         };
         let group = if cull.shadow.culled {
             cull.lists(si)
@@ -151,7 +145,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
             in_shadow4(scene, &h, light, to, ask, consts, cands)
         };
-        shade_lit4(scene, &h, active, blocked)
+        shade_model(scene, si, [normal, anchor, rel, dir], active, blocked)
     }
 }
 
