@@ -48,6 +48,14 @@ impl IeeeCmp for lanes::F {
         lanes::CmpGt::cmp_gt(self, o)
     }
     #[inline(always)]
+    fn ge(self, o: lanes::F) -> lanes::F {
+        lanes::CmpGe::cmp_ge(self, o)
+    }
+    #[inline(always)]
+    fn eq(self, o: lanes::F) -> lanes::F {
+        lanes::CmpEq::cmp_eq(self, o)
+    }
+    #[inline(always)]
     fn not_gt(self, o: lanes::F) -> lanes::F {
         lanes::CmpGt::cmp_gt(self, o) ^ lanes::F::splat(f32::from_bits(!0))
     }
@@ -63,6 +71,22 @@ impl IeeeCmp for lanes::F {
     #[inline(always)]
     fn select_lazy(m: lanes::F, a: impl FnOnce() -> lanes::F, b: lanes::F) -> lanes::F {
         m.blend(a(), b)
+    }
+    #[inline(always)]
+    fn choose(
+        m: lanes::F,
+        care: u32,
+        a: impl FnOnce() -> lanes::F,
+        b: impl FnOnce() -> lanes::F,
+    ) -> lanes::F {
+        let taken = lanes::bits(m) & care;
+        if taken == 0 {
+            b()
+        } else if taken == care {
+            a()
+        } else {
+            m.blend(a(), b())
+        }
     }
     #[inline(always)]
     fn bits(m: lanes::F) -> u32 {

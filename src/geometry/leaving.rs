@@ -87,29 +87,23 @@ impl Prepared {
         (base, offset, sphere): (Vec3, Vec3, &Sphere),
     ) -> Option<(f32, Vec3)> {
         let r = sphere.radius;
-        let (ff, rr) = (f.dot(f), r * r);
-        let c = ff - rr;
-        let b = f.dot(d);
-        // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f), so
-        // b² − ac is off by that times a, plus a few ε (b² + a ff) from b, b² and ac, all below
-        // 2⁻²⁰ a (ff + rr) as b² ≤ a ff: below −2⁻¹⁶ a (ff + rr) it misses the sphere's line
-        // whatever the rounding. Most tests are such misses, decided before the compensated c,
-        // as are spheres certainly behind. (A margin scaled by |c| instead, as `hit_ab`'s with
-        // an accurate c, is too small where c cancels: rays from 1 above a ground of radius 10⁶
-        // that meet it 1 400 away would miss.) Written `ac − 2⁻¹⁶ a (ff + rr) > b²`, where a or ff
-        // overflows is ∞ − ∞ = NaN, never a miss; `a (c − 2⁻¹⁶ (ff + rr))` would reject those
-        // (`leaving_overflow_is_no_clear_miss`).
-        let sum = ff + rr;
-        let a = d.dot(d);
-        let bb = b * b;
-        if a * c - a * sum * (1.0 / 65_536.0) > bb {
+        let start = leaving_start(f, r, d);
+        if start.clear {
             return None;
         }
-        let err_c = sum * (1.0 / 1_048_576.0);
-        if c > err_c && b >= 0.0 && tmin >= 0.0 {
+        if start.behind() && tmin >= 0.0 {
             return None;
         }
-        let c = if libm::fabsf(c) > sum * CANCEL && finite(c) {
+        let Leaving {
+            a,
+            b,
+            c,
+            rr,
+            sum,
+            err_c,
+            ..
+        } = start;
+        let c = if start.keeps() {
             c
         } else {
             if any_hit {
@@ -134,5 +128,67 @@ impl Prepared {
         };
         let k = Prepared { f, c, r };
         k.hit_ab(d, a, b, tmin, tmax).map(|t| (t, f))
+    }
+}
+
+/// The first steps of the test of a ray leaving a surface, for one f32 (`fused`) and for four
+/// lanes (`leaving_blocks4`): `a`, `b`, the f32 `c` and the two tests that decide most rays
+/// before `c` is finished: `clear`, a miss of the sphere's line, and [`Leaving::behind`].
+#[derive(Clone, Copy)]
+pub(super) struct Leaving<T: IeeeCmp> {
+    pub a: T,
+    pub b: T,
+    pub c: T,
+    pub rr: T,
+    pub sum: T,
+    pub err_c: T,
+    pub clear: T::Mask,
+}
+
+impl<T: IeeeCmp> Leaving<T> {
+    /// Certainly behind, for `tmin ≥ 0`: outside by more than the f32 error of `c`, heading
+    /// away. (Methods, not fields, so that one f32 computes them only past `clear`.)
+    #[inline(always)]
+    pub fn behind(&self) -> T::Mask {
+        self.c.gt(self.err_c) & self.b.ge(T::splat(0.0))
+    }
+
+    /// Where the f32 `c` is kept: it does not cancel (`CANCEL`) and is finite.
+    #[inline(always)]
+    pub fn keeps(&self) -> T::Mask {
+        let c = self.c.abs();
+        c.gt(self.sum * T::splat(CANCEL)) & c.le(T::splat(f32::MAX))
+    }
+}
+
+/// [`Leaving`] of the ray along `d` with `f` the origin's offset from the centre of a sphere
+/// of radius `r`.
+#[inline(always)]
+pub(super) fn leaving_start<P: Ieee3>(f: P, r: f32, d: P) -> Leaving<P::S> {
+    let v = <P::S as Ieee>::splat;
+    let (ff, rr) = (f.dot(f), v(r * r));
+    let c = ff - rr;
+    let b = f.dot(d);
+    // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f), so
+    // b² − ac is off by that times a, plus a few ε (b² + a ff) from b, b² and ac, all below
+    // 2⁻²⁰ a (ff + rr) as b² ≤ a ff: below −2⁻¹⁶ a (ff + rr) it misses the sphere's line
+    // whatever the rounding. Most tests are such misses, decided before the compensated c,
+    // as are spheres certainly behind. (A margin scaled by |c| instead, as `hit_ab`'s with
+    // an accurate c, is too small where c cancels: rays from 1 above a ground of radius 10⁶
+    // that meet it 1 400 away would miss.) Written `ac − 2⁻¹⁶ a (ff + rr) > b²`, where a or ff
+    // overflows is ∞ − ∞ = NaN, never a miss; `a (c − 2⁻¹⁶ (ff + rr))` would reject those
+    // (`leaving_overflow_is_no_clear_miss`).
+    let sum = ff + rr;
+    let a = d.dot(d);
+    let clear = (a * c - a * sum * v(1.0 / 65_536.0)).gt(b * b);
+    let err_c = sum * v(1.0 / 1_048_576.0);
+    Leaving {
+        a,
+        b,
+        c,
+        rr,
+        sum,
+        err_c,
+        clear,
     }
 }

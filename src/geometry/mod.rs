@@ -38,7 +38,9 @@
 //! squares overflow f32 are scaled by powers of two first, which is exact.
 //! docs/numerics.md measures what each of these costs and buys.
 
-use crate::math::{finite, sqrt, two_product_of, two_square_of, two_sum_of, Ieee, Vec3};
+use crate::math::{
+    finite, sqrt, two_product_of, two_square_of, two_sum_of, Ieee, Ieee3, IeeeCmp, Vec3,
+};
 
 mod compensated;
 mod hit_point;
@@ -54,6 +56,8 @@ use compensated::*;
 pub use hit_point::*;
 #[cfg(lanes)]
 pub(crate) use lanes::*;
+#[cfg(lanes)]
+use leaving::*;
 pub use prepared::*;
 use roots::*;
 

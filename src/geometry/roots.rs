@@ -127,3 +127,117 @@ pub(super) fn roots_scaled(
     let back = |t: f32| t * pow2(k / 2) * pow2(k - k / 2);
     Some((back(t0), back(t1)))
 }
+
+/// What [`hit_core`] found, as bits `0..4` of its lanes (one f32: bit 0): `hit` where the ray
+/// meets the sphere in `[tmin, tmax]`, at `t`; `scaled` where the squares overflow, which only
+/// [`roots_scaled`] decides; `tangent` where `q = 0`, both roots at 0.
+#[cfg(any(test, lanes))]
+#[derive(Clone, Copy)]
+pub(super) struct Found<T> {
+    pub hit: u32,
+    pub scaled: u32,
+    pub tangent: u32,
+    pub t: T,
+}
+
+/// The closest root in `[tmin, tmax]` along `d` (`a = d·d`, `b = f·d`) for the constants
+/// `f`, `c` (finite where `c_finite`), `rr = r²`, with Hearn–Baker's discriminant where `hb`
+/// (both one choice for all lanes): the definition of the ray–sphere test, for four lanes
+/// (`lanes_hit`) and for one f32, which [`hit_ab_xyz`] writes out with a branch at each of
+/// its early exits. The roots of [`Prepared::roots`], with exits that bring its cost near the
+/// textbook quadratic's where every lane takes them.
+#[cfg(any(test, lanes))]
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn hit_core<P: Ieee3>(
+    f: P,
+    c: P::S,
+    rr: P::S,
+    hb: bool,
+    c_finite: bool,
+    d: P,
+    a: P::S,
+    b: P::S,
+    tmin: f32,
+    tmax: P::S,
+) -> Found<P::S> {
+    type T<P> = <P as Ieee3>::S;
+    let v = <T<P> as Ieee>::splat;
+    let (zero, max) = (v(0.0), v(f32::MAX));
+    let miss = |scaled, tangent| Found {
+        hit: 0,
+        scaled,
+        tangent,
+        t: zero,
+    };
+    // b² − ac is off by a few ε (b² + a|c|) (its rounding, and that of b and c); a value
+    // below −2⁻¹⁸ of that misses the sphere's whole line whatever the rounding. Most tests
+    // are such misses: one branch first, and no Hearn–Baker divide for them. The margin is
+    // written with `ac`, not `a|c|`: they differ only for c < 0, where b² − ac ≥ 0 is never
+    // below a margin of either sign, so the same tests are rejected, and `ac` is computed once.
+    let bb = b * b;
+    let ac = a * c;
+    let disc0 = bb - ac;
+    let open = !disc0.lt((bb + ac).flip() * v(1.0 / 262_144.0));
+    // Outside (c > 0) and heading away (b ≥ 0): both roots are negative.
+    let cpos = c.gt(zero);
+    let open = if tmin >= 0.0 {
+        open & !(cpos & b.ge(zero))
+    } else {
+        open
+    };
+    if T::<P>::bits(open) == 0 {
+        return miss(0, 0);
+    }
+    let disc = if hb {
+        let l = f.sub(d.mul(b / a));
+        a * (rr - l.dot(l))
+    } else {
+        disc0
+    };
+    // Overflow shows as ±∞ or NaN somewhere on the way to disc (or in c).
+    let in_range = if c_finite {
+        zero.le(disc) & disc.le(max)
+    } else {
+        T::<P>::mask(0)
+    };
+    let negative = disc.lt(zero) & disc.abs().le(max);
+    let scaled = T::<P>::bits(open & !(in_range | negative));
+    let open = open & in_range;
+    let s = disc.sqrt();
+    // q has the sign of −b, so −b and ∓s never cancel.
+    let q = T::<P>::select(b.gt(zero), (b + s).flip(), s - b);
+    let q_zero = q.eq(zero);
+    let tangent = T::<P>::bits(open & q_zero);
+    let live = open & !q_zero;
+    let lives = T::<P>::bits(live);
+    // `near_root`, one divide where every live lane takes the same arm, as neighbouring rays
+    // mostly do (small spheres the first, a ground below the eye the second).
+    let far_ahead = cpos & b.lt(zero) & s.lt(v(-0.5) * b);
+    let t0 = T::<P>::choose(far_ahead, lives, || (b.flip() - s) / a, || c / q);
+    let ok = |t: T<P>| t.ge(v(tmin)) & t.le(tmax) & t.lt(v(f32::INFINITY));
+    // With q > 0 and c > 0, c/q is the near root (c/q ≤ q/a since q² ≥ b² ≥ ac): when it is
+    // in range the far root's divide is not needed.
+    let early = q.gt(zero) & cpos & ok(t0);
+    if T::<P>::bits(early & live) == lives {
+        return Found {
+            hit: lives,
+            scaled,
+            tangent,
+            t: t0,
+        };
+    }
+    let t1 = q / a;
+    let ordered = t0.le(t1);
+    let (near, far) = (
+        T::<P>::select(ordered, t0, t1),
+        T::<P>::select(ordered, t1, t0),
+    );
+    let take_near = early | ok(near);
+    Found {
+        hit: T::<P>::bits(live & (take_near | ok(far))),
+        scaled,
+        tangent,
+        t: T::<P>::select(early, t0, T::<P>::select(take_near, near, far)),
+    }
+}

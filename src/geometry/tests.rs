@@ -1,4 +1,30 @@
-//! Unit tests: the lanes against the scalar tests, bit for bit.
+//! Unit tests: the lanes and the scalar copies against the generic definitions, bit for bit.
+
+#[cfg(test)]
+use crate::math::{TestRng, Vec3};
+
+#[cfg(test)]
+/// Magnitudes over many decades, for the test's spheres and rays.
+pub(super) trait Decades {
+    /// ±(1 … 10) · 10^e for e in lo..hi.
+    fn mag(&mut self, lo: i32, hi: i32) -> f32;
+    fn decades(&mut self, lo: i32, hi: i32) -> Vec3;
+}
+#[cfg(test)]
+impl Decades for TestRng {
+    fn mag(&mut self, lo: i32, hi: i32) -> f32 {
+        let e = lo + (self.next() % (hi - lo) as u64) as i32;
+        let v = (1.0 + 9.0 * self.unit()) * libm::powf(10.0, e as f32);
+        if self.next() & 1 == 0 {
+            v
+        } else {
+            -v
+        }
+    }
+    fn decades(&mut self, lo: i32, hi: i32) -> Vec3 {
+        Vec3::new(self.mag(lo, hi), self.mag(lo, hi), self.mag(lo, hi))
+    }
+}
 
 #[cfg(all(test, lanes))]
 mod lane_tests {
@@ -6,26 +32,7 @@ mod lane_tests {
 
     use crate::math::TestRng;
 
-    /// Magnitudes over many decades, for the test's spheres and rays.
-    trait Decades {
-        /// ±(1 … 10) · 10^e for e in lo..hi.
-        fn mag(&mut self, lo: i32, hi: i32) -> f32;
-        fn decades(&mut self, lo: i32, hi: i32) -> Vec3;
-    }
-    impl Decades for TestRng {
-        fn mag(&mut self, lo: i32, hi: i32) -> f32 {
-            let e = lo + (self.next() % (hi - lo) as u64) as i32;
-            let v = (1.0 + 9.0 * self.unit()) * libm::powf(10.0, e as f32);
-            if self.next() & 1 == 0 {
-                v
-            } else {
-                -v
-            }
-        }
-        fn decades(&mut self, lo: i32, hi: i32) -> Vec3 {
-            Vec3::new(self.mag(lo, hi), self.mag(lo, hi), self.mag(lo, hi))
-        }
-    }
+    use super::Decades;
 
     /// `c_near_across` (coordinates in lanes) is `c_near_of` on scalars, bit for bit, with and
     /// without an offset: origins on, near and far from spheres of every size, coordinates
@@ -523,5 +530,100 @@ mod lane_tests {
             }
         }
         assert!(some > cases - cases / 100, "{some} of {cases}");
+    }
+}
+
+#[cfg(test)]
+mod scalar_tests {
+    use super::super::*;
+    use super::Decades;
+    use crate::math::TestRng;
+
+    /// [`hit_core`]'s scalar instance, finished as `hit_ab_xyz` finishes its rare cases.
+    fn generic_hit(k: &Prepared, d: Vec3, tmin: f32, tmax: f32) -> Option<f32> {
+        let (f, c, r) = (k.f, k.c, k.r);
+        let (a, b) = (d.dot(d), f.dot(d));
+        let hb = !(libm::fabsf(c) <= r * r);
+        let h = hit_core(f, c, r * r, hb, finite(c), d, a, b, tmin, tmax);
+        if h.scaled != 0 {
+            return select(roots_scaled(f.x, f.y, f.z, d.x, d.y, d.z, r)?, tmin, tmax);
+        }
+        if h.tangent != 0 {
+            return select((0.0, 0.0), tmin, tmax);
+        }
+        (h.hit != 0).then_some(h.t)
+    }
+
+    /// `hit_ab_xyz`, the scalar test written out with its branches, is [`hit_core`] on one f32,
+    /// bit for bit: spheres of every size, origins on, near, inside and far from them (both
+    /// discriminants), tangents, zero and huge directions, overflowing and infinite constants,
+    /// and `tmin`, `tmax` of every kind (negative, at the root, NaN).
+    #[test]
+    fn hit_ab_xyz_is_hit_core() {
+        let mut g = TestRng(0x452_821e_638d_0137);
+        let bits = |t: Option<f32>| t.map(|t| if t.is_nan() { u32::MAX } else { t.to_bits() });
+        let (mut hits, mut scaled, mut tangents, mut near) = (0, 0, 0, 0);
+        for case in 0..300_000u32 {
+            let r = g.mag(-4, 5).abs();
+            let m = g.decades(-4, 5);
+            let origin = match case % 5 {
+                0 => m + Vec3::new(r, 0.0, 0.0) * (1.0 + 0.01 * (g.unit() - 0.5)),
+                1 => m + g.decades(-5, 2),
+                2 if case % 64 == 2 => Vec3::new(3e19, -2e19, 1e19),
+                _ => g.decades(-4, 6),
+            };
+            let mut k = Prepared::exact(origin, &Sphere::new(m, r));
+            match case % 97 {
+                // on the surface exactly, with tangent directions below: q = 0
+                3 => {
+                    k = Prepared {
+                        f: Vec3::new(r, 0.0, 0.0),
+                        c: 0.0,
+                        r,
+                    }
+                }
+                5 => k.c = f32::INFINITY,
+                7 => k.c = f32::NAN,
+                _ => {}
+            }
+            let aim = -k.f;
+            let d = match case % 7 {
+                0 => Vec3::ZERO,
+                1 => aim,
+                2 => Vec3::new(0.0, 1.0, 0.0) * g.mag(-3, 3),
+                3 => g.decades(15, 20),
+                4 => {
+                    let (dd, u) = (aim.length(), aim.cross(Vec3::new(0.3, 1.0, 0.1)));
+                    let side = libm::sqrtf(libm::fabsf(dd * dd - r * r)) / dd;
+                    let off = 1.0 + libm::powf(10.0, -4.0 - 3.0 * g.unit()) * (g.unit() - 0.5);
+                    aim * side + u.normalized().unwrap_or(Vec3::ZERO) * (r * off)
+                }
+                _ => aim + g.decades(-6, 1) * aim.length(),
+            };
+            let tmin = [0.0, f32::MIN_POSITIVE, -1e3][case as usize % 3];
+            let tmax = match (case / 7) % 4 {
+                0 => f32::INFINITY,
+                1 => k.hit(d, tmin, f32::INFINITY).unwrap_or(1.0),
+                2 => g.mag(-3, 4).abs(),
+                _ => f32::NAN,
+            };
+            let scalar = k.hit(d, tmin, tmax);
+            assert_eq!(
+                bits(generic_hit(&k, d, tmin, tmax)),
+                bits(scalar),
+                "case {case}: {k:?} {d:?} [{tmin}, {tmax}]"
+            );
+            let (a, b) = (d.dot(d), k.f.dot(d));
+            let hb = !(libm::fabsf(k.c) <= k.r * k.r);
+            let h = hit_core(k.f, k.c, k.r * k.r, hb, finite(k.c), d, a, b, tmin, tmax);
+            hits += scalar.is_some() as u32;
+            scaled += h.scaled;
+            tangents += h.tangent;
+            near += !hb as u32;
+        }
+        assert!(hits > 50_000, "{hits} hits");
+        assert!(scaled > 500, "{scaled} overflows");
+        assert!(tangents > 100, "{tangents} tangents");
+        assert!(near > 20_000, "{near} origins with |c| ≤ r²");
     }
 }

@@ -5,7 +5,7 @@
 //! `bool` mask makes every selection a branch.
 
 use super::{spec_pow, sqrt, Vec3};
-use core::ops::{Add, BitAnd, Div, Mul, Not, Sub};
+use core::ops::{Add, BitAnd, BitOr, Div, Mul, Not, Sub};
 
 /// The IEEE operations of the error-free transformations, on one f32 and (`cfg(lanes)`) on the
 /// four lanes of a vector: both run the one generic definition, the same operations in the same
@@ -37,7 +37,10 @@ impl Ieee for f32 {
 /// Decisions that skip work for every lane at once go through [`IeeeCmp::bits`].
 pub(crate) trait IeeeCmp: Ieee + Div<Output = Self> {
     /// The outcome of a comparison.
-    type Mask: Copy + BitAnd<Output = Self::Mask> + Not<Output = Self::Mask>;
+    type Mask: Copy
+        + BitAnd<Output = Self::Mask>
+        + BitOr<Output = Self::Mask>
+        + Not<Output = Self::Mask>;
     /// `|x|`: the sign cleared (`libm::fabsf` for one f32).
     fn abs(self) -> Self;
     /// The correctly rounded square root ([`sqrt`] for one f32).
@@ -48,6 +51,11 @@ pub(crate) trait IeeeCmp: Ieee + Div<Output = Self> {
     fn le(self, o: Self) -> Self::Mask;
     /// `self > o` (false where either is NaN).
     fn gt(self, o: Self) -> Self::Mask;
+    /// `self ≥ o` (false where either is NaN).
+    fn ge(self, o: Self) -> Self::Mask;
+    /// `self == o` (false where either is NaN; `0 == −0`).
+    #[cfg_attr(not(any(test, lanes)), allow(dead_code))]
+    fn eq(self, o: Self) -> Self::Mask;
     /// `!(self > o)`: true where either is NaN.
     fn not_gt(self, o: Self) -> Self::Mask;
     /// `f32::MIN_POSITIVE ≤ self ≤ f32::MAX`: a positive normal number.
@@ -56,6 +64,12 @@ pub(crate) trait IeeeCmp: Ieee + Div<Output = Self> {
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
     /// `if m { a() } else { b }`, `a` evaluated only where needed (one f32: only when `m`).
     fn select_lazy(m: Self::Mask, a: impl FnOnce() -> Self, b: Self) -> Self;
+    /// `if m { a() } else { b() }` where only the lanes `care` (bits `0..4`) are read: one f32
+    /// computes the arm it takes; the lanes compute one arm where every lane of `care` takes
+    /// it, both where they differ.
+    #[cfg_attr(not(any(test, lanes)), allow(dead_code))]
+    fn choose(m: Self::Mask, care: u32, a: impl FnOnce() -> Self, b: impl FnOnce() -> Self)
+        -> Self;
     /// The lanes of a mask as bits `0..4` (one f32: bit 0).
     fn bits(m: Self::Mask) -> u32;
     /// The mask whose lanes are the bits `0..4` of `bits`.
@@ -88,6 +102,14 @@ impl IeeeCmp for f32 {
         self > o
     }
     #[inline(always)]
+    fn ge(self, o: f32) -> bool {
+        self >= o
+    }
+    #[inline(always)]
+    fn eq(self, o: f32) -> bool {
+        self == o
+    }
+    #[inline(always)]
     fn not_gt(self, o: f32) -> bool {
         !(self > o)
     }
@@ -111,6 +133,14 @@ impl IeeeCmp for f32 {
             a()
         } else {
             b
+        }
+    }
+    #[inline(always)]
+    fn choose(m: bool, _: u32, a: impl FnOnce() -> f32, b: impl FnOnce() -> f32) -> f32 {
+        if m {
+            a()
+        } else {
+            b()
         }
     }
     #[inline(always)]
