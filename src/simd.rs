@@ -153,6 +153,10 @@ impl Ieee3 for lanes::V {
         lanes::V::mul_elem(self, o)
     }
     #[inline(always)]
+    fn cross(self, o: lanes::V) -> lanes::V {
+        lanes::V::cross(self, o)
+    }
+    #[inline(always)]
     fn select(m: lanes::F, a: lanes::V, b: lanes::V) -> lanes::V {
         lanes::V::select(m, a, b)
     }

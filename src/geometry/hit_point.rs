@@ -103,23 +103,12 @@ pub(super) fn hit_point_far(
         product_difference(f.z, d.x, f.x, d.z),
         product_difference(f.x, d.y, f.y, d.x),
     );
-    let a = d.dot(d);
-    let l = d.cross(w) / a;
     // r² − |l|², the `c` of the origin l for the sphere about 0.
     let centred = Sphere {
         center: Vec3::ZERO,
         radius: sphere.radius,
     };
-    let h2 = -c_near(l, Vec3::ZERO, &centred);
-    let s = sqrt(if h2 > 0.0 { h2 / a } else { 0.0 });
-    // The roots are −k ∓ s; the hit is the one that `t` approximates.
-    let k = f.dot(d) / a;
-    let s = if libm::fabsf(t - (-k - s)) <= libm::fabsf(t - (-k + s)) {
-        -s
-    } else {
-        s
-    };
-    let offset = l + d * s;
+    let offset = far_offset(d, t, f, w, |l| -c_near(l, Vec3::ZERO, &centred));
     let point = sphere.center + offset;
     if offset.is_finite() && point.is_finite() {
         Some((point, offset))
@@ -128,9 +117,26 @@ pub(super) fn hit_point_far(
     }
 }
 
+/// [`hit_point_far`]'s offset `l ± s·d` from `w = f × d` in exact products and `h2(l)`, which
+/// is r² − |l|²: for one f32 and for four lanes (`hit_point_far4`). The callers give `w` and
+/// `h2`, out of line for one f32 (a cold path: one copy is small flash), inline in lanes.
+#[inline(always)]
+fn far_offset<P: Ieee3>(d: P, t: P::S, f: P, w: P, h2: impl FnOnce(P) -> P::S) -> P {
+    let zero = <P::S as Ieee>::splat(0.0);
+    let a = d.dot(d);
+    let l = d.cross(w).div(a);
+    let h2 = h2(l);
+    let s = <P::S as IeeeCmp>::select(h2.gt(zero), h2 / a, zero).sqrt();
+    // The roots are −k ∓ s; the hit is the one that `t` approximates.
+    let k = f.dot(d) / a;
+    let nearer = (t - (k.flip() - s)).abs().le((t - (k.flip() + s)).abs());
+    let s = <P::S as IeeeCmp>::select(nearer, s.flip(), s);
+    l.add(d.mul(s))
+}
+
 /// [`hit_point_far`] of four rays from one origin (`f` their common `o − m`, as for primary
-/// rays) with directions `d` and parameters `t`: its operations lane by lane, so each lane is
-/// the scalar `Some((point, offset))`, bit for bit; `None` where a lane is not finite (the
+/// rays) with directions `d` and parameters `t`: [`far_offset`] in lanes, so each lane is the
+/// scalar `Some((point, offset))`, bit for bit; `None` where a lane is not finite (the
 /// scalar call then falls back for it). For hosts, where many small far spheres make this path
 /// warm.
 #[cfg(lanes)]
@@ -142,28 +148,22 @@ pub(crate) fn hit_point_far4(
     sphere: &Sphere,
 ) -> Option<(crate::simd::V, crate::simd::V)> {
     use crate::simd::{neg, F, V};
-    use crate::simd::{CmpGt, CmpLe};
     let fv = V::splat(f);
     let w = V {
         x: product_difference_of(fv.y, d.z, fv.z, d.y),
         y: product_difference_of(fv.z, d.x, fv.x, d.z),
         z: product_difference_of(fv.x, d.y, fv.y, d.x),
     };
-    let a = d.dot(d);
-    let l = d.cross(w).div(a);
     let zero = F::splat(0.0);
-    let h2 = c_near_of::<F, true>(
-        [l.x, l.y, l.z],
-        [zero; 3],
-        [zero; 3],
-        F::splat(sphere.radius),
-    );
-    let h2 = neg(h2);
-    let s = h2.cmp_gt(zero).blend(h2 / a, zero).sqrt();
-    let k = fv.dot(d) / a;
-    let nearer = (t - (neg(k) - s)).abs().cmp_le((t - (neg(k) + s)).abs());
-    let s = nearer.blend(neg(s), s);
-    let offset = l.add(d.mul(s));
+    let radius = F::splat(sphere.radius);
+    let offset = far_offset(d, t, fv, w, |l| {
+        neg(c_near_of::<F, true>(
+            [l.x, l.y, l.z],
+            [zero; 3],
+            [zero; 3],
+            radius,
+        ))
+    });
     let point = V::splat(sphere.center).add(offset);
     (offset.finite() & point.finite() == 0b1111).then_some((point, offset))
 }

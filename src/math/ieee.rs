@@ -173,6 +173,8 @@ pub(crate) trait Ieee3: Copy {
     fn mul(self, s: Self::S) -> Self;
     fn div(self, s: Self::S) -> Self;
     fn mul_elem(self, o: Self) -> Self;
+    /// The cross product, as [`Vec3::cross`].
+    fn cross(self, o: Self) -> Self;
     /// `if m { a } else { b }`, lane by lane.
     fn select(m: <Self::S as IeeeCmp>::Mask, a: Self, b: Self) -> Self;
     /// [`Vec3::normalize_fast`]: each coordinate divided by the length.
@@ -218,6 +220,10 @@ impl Ieee3 for Vec3 {
     #[inline(always)]
     fn mul_elem(self, o: Vec3) -> Vec3 {
         Vec3::mul_elem(self, o)
+    }
+    #[inline(always)]
+    fn cross(self, o: Vec3) -> Vec3 {
+        Vec3::cross(self, o)
     }
     #[inline(always)]
     fn select(m: bool, a: Vec3, b: Vec3) -> Vec3 {
