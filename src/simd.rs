@@ -2,12 +2,11 @@
 //! (`cfg(lanes)`, set by build.rs: x86-64, AArch64 with NEON) four lanes of `wide::f32x4`;
 //! elsewhere none, and the code above runs its scalar path. Every lane operation is the IEEE
 //! operation of its scalar counterpart in the same order (no fused multiply-add), so a lane
-//! computes the scalar bits; [`Ieee`] (implemented here for the lanes) lets one generic
-//! definition serve both. Where a lane version is a copy of its scalar code (`lanes.rs` in
-//! geometry, shading and render), a test pins them together bit for bit (the lane unit tests,
-//! `tests/accelerated.rs` against the scalar brute force, and CI's `MICRORAY_HOST_AS` runs); the
-//! copies pay for themselves: the target scene takes 285.6 x86 instructions a pixel with lanes,
-//! 598.5 built as the Cortex-M path (`bench/instructions.sh`, `MICRORAY_HOST_AS=m4f`).
+//! computes the scalar bits. The math traits (`Ieee`, `IeeeCmp`, `Ieee3`, `Byte`, in
+//! `math/ieee.rs`) are implemented here for the lanes, so that each formula is written once,
+//! generic over one f32 and four lanes (ARCHITECTURE.md lists them). The lanes pay for
+//! themselves: the target scene takes 284.2 x86 instructions a pixel with them, 597.4 built as
+//! the Cortex-M path (`bench/instructions.sh`, and with `MICRORAY_HOST_AS=m4f`).
 
 #[cfg(lanes)]
 use crate::math::{Byte, Ieee, Ieee3, IeeeCmp, Vec3};
