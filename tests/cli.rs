@@ -179,6 +179,26 @@ fn invalid_input_exits_2_and_writes_nothing() {
         "--threads",
     );
     fails(&dir, &["tests/data/flat.toml", "--bogus"], 2, "--bogus");
+    // Bytes that are not text: invalid input, located, not an I/O failure.
+    let binary = dir.join("binary.toml");
+    std::fs::write(&binary, b"[camera]\neye = [0, 0, 5]\n\xc3\x28 = 1\n").unwrap();
+    fails(
+        &dir,
+        &[binary.to_str().unwrap()],
+        2,
+        "binary.toml: line 3: not UTF-8 text (byte offset 25)",
+    );
+    let noise: Vec<u8> = (0..4096u32)
+        .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+        .collect();
+    assert!(std::str::from_utf8(&noise).is_err());
+    let noise_file = dir.join("noise.toml");
+    std::fs::write(&noise_file, &noise).unwrap();
+    fails(&dir, &[noise_file.to_str().unwrap()], 2, "not UTF-8 text");
+    // An empty file is text: the error names what is missing.
+    let empty = dir.join("empty.toml");
+    std::fs::write(&empty, b"").unwrap();
+    fails(&dir, &[empty.to_str().unwrap()], 2, "empty.toml");
     let single = stderr(&run(&[bad, "-o", dir.join("x.png").to_str().unwrap()]));
     assert_eq!(single.trim_end().lines().count(), 1, "{single}");
 }
@@ -187,6 +207,8 @@ fn invalid_input_exits_2_and_writes_nothing() {
 fn io_failures_exit_1() {
     let dir = scratch("io");
     fails(&dir, &["no/such/scene.toml"], 1, "no/such/scene.toml");
+    // A directory where the scene should be: it cannot be read.
+    fails(&dir, &["tests/data"], 1, "tests/data");
     // the output directory does not exist: nothing is written anywhere
     let o = run(&[
         "tests/data/flat.toml",

@@ -146,25 +146,45 @@ impl fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
-/// Reads and checks a scene file; the error names the file.
+/// Reads and checks a scene file; the error names the file. A file that cannot be read is an
+/// I/O error (`io`); one that is not UTF-8 text is invalid input, located by line and byte
+/// offset.
 ///
 /// ```
 /// let err = microray::scene_file::load::<4, 1>("no/such/scene.toml").unwrap_err();
 /// assert!(err.io && err.to_string().starts_with("no/such/scene.toml: "));
+///
+/// let path = std::env::temp_dir().join("microray-doc-not-text.toml");
+/// std::fs::write(&path, b"[camera]\neye = \xff\n").unwrap();
+/// let err = microray::scene_file::load::<4, 1>(&path).unwrap_err();
+/// assert!(!err.io);
+/// assert!(err.to_string().ends_with("line 2: not UTF-8 text (byte offset 15)"));
+/// # std::fs::remove_file(&path).unwrap();
 /// ```
 pub fn load<const S: usize, const L: usize>(
     path: impl AsRef<Path>,
 ) -> Result<SceneFile<S, L>, SceneError> {
     let path = path.as_ref();
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+    let bytes = std::fs::read(path).map_err(|e| SceneError {
         file: Some(name.clone()),
         line: None,
         field: None,
         message: e.to_string(),
         io: true,
     })?;
-    parse(&text).map_err(|mut e| {
+    // Bytes that are not text are invalid input, not a failure to read.
+    let text = core::str::from_utf8(&bytes).map_err(|e| {
+        let at = e.valid_up_to();
+        SceneError {
+            file: Some(name.clone()),
+            line: Some(1 + bytes[..at].iter().filter(|&&b| b == b'\n').count()),
+            field: None,
+            message: format!("not UTF-8 text (byte offset {at})"),
+            io: false,
+        }
+    })?;
+    parse(text).map_err(|mut e| {
         e.file = Some(name);
         e
     })
