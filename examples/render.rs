@@ -79,6 +79,7 @@ fn run(args: Args) -> Result<(), Failure> {
         Some(n) => n,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
+    output_target(&args.output)?;
 
     // The image the bands are rendered into, allocated and written before the clock starts:
     // the kernel maps a fresh page at its first write (~3 µs a page on this VM, ~1 ms for a
@@ -265,22 +266,55 @@ fn progress(done: &AtomicU32, finished: &AtomicBool, total: u32) {
 /// never touches an existing file.
 fn write_png(out: &Path, w: u32, h: u32, image: &[Rgb888]) -> Result<(), Failure> {
     let io = |e: &dyn std::fmt::Display| Failure(1, format!("{}: {e}", out.display()));
+    let target = output_target(out)?;
     let mut pixmap = tiny_skia::Pixmap::new(w, h).ok_or_else(|| io(&"image too large"))?;
     for (dst, p) in pixmap.pixels_mut().iter_mut().zip(image) {
         *dst = tiny_skia::PremultipliedColorU8::from_rgba(p.r(), p.g(), p.b(), 255)
             .expect("opaque colours are always valid");
     }
     let png = pixmap.encode_png().map_err(|e| io(&e))?;
-    let name = out.file_name().ok_or_else(|| io(&"not a file name"))?;
-    let tmp = out.with_file_name(format!(
+    let name = target.file_name().ok_or_else(|| io(&"not a file name"))?;
+    // Written beside the file it replaces and renamed over it: never a partial PNG under the
+    // output's name, whatever stops the write.
+    let tmp = target.with_file_name(format!(
         ".{}.{}.tmp",
         name.to_string_lossy(),
         std::process::id()
     ));
-    let result = std::fs::write(&tmp, png).and_then(|()| std::fs::rename(&tmp, out));
+    let keep_mode = std::fs::metadata(&target).ok().map(|m| m.permissions());
+    let result = std::fs::write(&tmp, png)
+        .and_then(|()| match keep_mode {
+            Some(mode) => std::fs::set_permissions(&tmp, mode),
+            None => Ok(()),
+        })
+        .and_then(|()| std::fs::rename(&tmp, &target));
     if let Err(e) = result {
         let _ = std::fs::remove_file(&tmp);
         return Err(io(&e));
     }
     Ok(())
+}
+
+/// The file that writing to `out` replaces, as a plain write would treat it: a symlink's
+/// target (so the link stays a link), and an error for a directory or a read-only file, which
+/// a write could not replace. Checked before rendering too, so a long render does not end in
+/// an error it could have given at the start.
+fn output_target(out: &Path) -> Result<PathBuf, Failure> {
+    let fail = |why: &str| Failure(1, format!("{}: {why}", out.display()));
+    let target = match std::fs::symlink_metadata(out) {
+        Ok(m) if m.file_type().is_symlink() => match std::fs::canonicalize(out) {
+            Ok(t) => t,
+            // A dangling link: its target is created, as a write through it would.
+            Err(_) => {
+                let link = std::fs::read_link(out).map_err(|e| fail(&e.to_string()))?;
+                out.parent().unwrap_or(Path::new("")).join(link)
+            }
+        },
+        _ => out.to_path_buf(),
+    };
+    match std::fs::metadata(&target) {
+        Ok(m) if m.is_dir() => Err(fail("is a directory")),
+        Ok(m) if m.permissions().readonly() => Err(fail("read-only file (not replaced)")),
+        _ => Ok(target),
+    }
 }

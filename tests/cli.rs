@@ -218,3 +218,98 @@ fn io_failures_exit_1() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("out.png"));
 }
+
+/// The output is replaced as a plain write would replace it: through a symlink (the link kept),
+/// keeping an existing file's mode, and never over a read-only file or a directory.
+#[cfg(unix)]
+#[test]
+fn the_output_is_written_as_a_plain_write_would() {
+    use std::os::unix::fs::{symlink, PermissionsExt};
+    let dir = scratch("output");
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    let png = |p: &Path| std::fs::read(p).unwrap().starts_with(b"\x89PNG");
+
+    let read_only = dir.join("read-only.png");
+    std::fs::write(&read_only, b"precious").unwrap();
+    std::fs::set_permissions(&read_only, std::fs::Permissions::from_mode(0o444)).unwrap();
+    let o = run(&["tests/data/flat.toml", "-o", read_only.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("read-only.png: read-only file"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read(&read_only).unwrap(), b"precious");
+    assert_eq!(mode(&read_only), 0o444);
+
+    let private = dir.join("private.png");
+    std::fs::write(&private, b"old").unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o600)).unwrap();
+    let o = run(&["tests/data/flat.toml", "-o", private.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(png(&private));
+    assert_eq!(mode(&private), 0o600);
+
+    let sub = dir.join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    let real = sub.join("real.png");
+    std::fs::write(&real, b"old").unwrap();
+    let link = dir.join("link.png");
+    symlink("sub/real.png", &link).unwrap();
+    let o = run(&["tests/data/flat.toml", "-o", link.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(png(&real));
+
+    let o = run(&["tests/data/flat.toml", "-o", sub.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("is a directory"), "{}", stderr(&o));
+
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .chain(std::fs::read_dir(&sub).unwrap())
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "temporary files left: {left:?}");
+}
+
+/// A render stopped by SIGINT or SIGTERM leaves neither a PNG nor a temporary file.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_render_leaves_nothing() {
+    for signal in ["INT", "TERM"] {
+        let dir = scratch(&format!("signal-{signal}"));
+        let out = dir.join("big.png");
+        let mut child = Command::new(renderer())
+            .args(["tests/data/lit.toml", "--width", "8000", "--height", "8000"])
+            .args([
+                "--samples",
+                "4",
+                "--threads",
+                "1",
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(500));
+        let killed = Command::new("kill")
+            .args([format!("-{signal}"), child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        let status = child.wait().unwrap();
+        assert!(!status.success(), "SIG{signal}: the render finished first");
+        let left: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert!(left.is_empty(), "SIG{signal} left {left:?}");
+    }
+}
