@@ -281,7 +281,12 @@ fn write_png(out: &Path, w: u32, h: u32, image: &[Rgb888]) -> Result<(), Failure
         name.to_string_lossy(),
         std::process::id()
     ));
-    let keep_mode = std::fs::metadata(&target).ok().map(|m| m.permissions());
+    let existing = std::fs::metadata(&target).ok();
+    if existing.as_ref().is_some_and(|m| !m.is_file()) {
+        // A device or a pipe (`/dev/stdout`, `/dev/full`): written to, never replaced.
+        return std::fs::write(&target, png).map_err(|e| io(&e));
+    }
+    let keep_mode = existing.map(|m| m.permissions());
     let result = std::fs::write(&tmp, png)
         .and_then(|()| match keep_mode {
             Some(mode) => std::fs::set_permissions(&tmp, mode),

@@ -268,6 +268,23 @@ fn the_output_is_written_as_a_plain_write_would() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("is a directory"), "{}", stderr(&o));
 
+    // A device is written to, not replaced: a full one is an I/O failure, and stays a device.
+    let full = Path::new("/dev/full");
+    if full.exists() {
+        use std::os::unix::fs::FileTypeExt;
+        let o = run(&["tests/data/flat.toml", "-o", "/dev/full"]);
+        assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("/dev/full: No space left"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(std::fs::metadata(full)
+            .unwrap()
+            .file_type()
+            .is_char_device());
+    }
+
     let left: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .chain(std::fs::read_dir(&sub).unwrap())
