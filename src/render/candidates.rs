@@ -48,7 +48,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
             }
             let (t0, t1) = (f32::from_bits(t0), f32::from_bits(t1));
-            let s = s as usize;
+            let s = s.index();
             let join = if self.offset_near(s) {
                 // `column` is monotonic: the run's ends have its least and greatest.
                 let x = |k: usize| (i0 + (k - slots.start) as u32) as f32 + ox;
@@ -76,7 +76,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let (i0, i1) = (cull.span_start, cull.span_end);
         cull.spheres.span.clear();
         for &s in &cull.spheres.row {
-            if let Some(b) = self.tables.boxes.get(s as usize) {
+            if let Some(b) = self.tables.boxes.get(s.index()) {
                 if (b.i0 as u32) < i1 && b.i1 as u32 >= i0 {
                     let _ = cull.spheres.span.push(s);
                 }
@@ -85,7 +85,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         cull.shadow.culled = false;
         cull.hits.kept = Kept::Nothing;
         // No group until this span's: `lists` finds none where the span builds no lists.
-        cull.shadow.groups = [NONE; GROUPS];
+        cull.shadow.groups = [SphereId::NONE; GROUPS];
         // Without shadow rays the span needs no bounds, but with one sample a pixel its hits
         // are still traced here, in one tight loop over the span, and kept for shading.
         let kept = (self.samples * self.samples) as usize <= KEPT;
@@ -101,7 +101,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if self.samples == 1 && cull.spheres.span.is_empty() {
             // No sphere's box meets the span (the sky above the scene): every ray misses, and
             // none needs building.
-            cull.hits.s.fill(NONE);
+            cull.hits.s.fill(SphereId::NONE);
             cull.hits.kept = Kept::Pixels;
         } else {
             // Every sample's hit joins the bounds; the hits are also kept for shading where
@@ -136,14 +136,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                     .then(|| {
                                         let s = cull.hits.s.get(slot..slot + 4)?;
                                         let p = cull.hits.p.get(slot..slot + 4)?;
-                                        let same = s[0] != NONE && s.iter().all(|&x| x == s[0]);
+                                        let same =
+                                            s[0] != SphereId::NONE && s.iter().all(|&x| x == s[0]);
                                         same.then(|| (s[0], box4(p)))
                                     })
                                     .flatten();
                                 if let Some((s, b)) = four {
                                     cull.set_group(
                                         slot..slot + 4,
-                                        bounds.join::<true>(s as usize, b),
+                                        bounds.join::<true>(s.index(), b),
                                     );
                                     slot += 4;
                                     continue;
@@ -153,7 +154,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                                 {
                                     cull.set_group(
                                         slot..slot + 1,
-                                        bounds.join::<true>(s as usize, (p, p)),
+                                        bounds.join::<true>(s.index(), (p, p)),
                                     );
                                 }
                                 slot += 1;
@@ -178,7 +179,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         }
                         let (t, s) = (cull.hits.t.get_mut(slot), cull.hits.s.get_mut(slot));
                         if let (Some(t), Some(s)) = (t, s) {
-                            (*t, *s) = h.map_or((0.0, NONE), |(t, s)| (t, s as u16));
+                            (*t, *s) =
+                                h.map_or((0.0, SphereId::NONE), |(t, s)| (t, SphereId::new(s)));
                         }
                     }
                     if self.shadow_rays {
@@ -207,7 +209,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 continue;
             };
             let Some(group) = bounds.groups.get(g) else {
-                *slot = NONE;
+                *slot = SphereId::NONE;
                 continue;
             };
             *slot = group.sphere;
@@ -235,10 +237,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let start = cull.shadow.pool.len() as u16;
                 let spheres = self.scene.spheres();
                 let mut blockers = Blockers::new(light, spheres, q, rho, &mut cull.shadow.pool);
-                let mut consider = |s: u16| {
+                let mut consider = |s: SphereId| {
                     // Not a group's own sphere: the shadow test skips the hit's sphere among
                     // its candidates (it finds the ray's exit from it analytically), so listing
-                    // it would only cost a skip per pixel. `REST` is no sphere index (`FITS`).
+                    // it would only cost a skip per pixel. `SphereId::REST` is no sphere's id
+                    // (`FITS`).
                     if s != group.sphere {
                         blockers.consider(s);
                     }
@@ -257,7 +260,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     }
                     None => {
                         for s in 0..spheres.len() {
-                            consider(s as u16);
+                            consider(SphereId::new(s));
                         }
                     }
                 }
@@ -329,15 +332,13 @@ pub(super) fn box4(p: &[Vec3]) -> (Vec3, Vec3) {
 /// Hit groups per span: hits on up to `GROUPS − 1` spheres get their own bound, the rest share
 /// the last.
 pub(super) const GROUPS: usize = 4;
-/// An unused group.
-pub(super) const NONE: u16 = u16::MAX;
 /// A slot's hit in no group (`Cull::hit_g`).
 pub(super) const NO_GROUP: u8 = u8::MAX;
 
 /// The bound of one group's hit points.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Group {
-    pub(super) sphere: u16,
+    pub(super) sphere: SphereId,
     pub(super) lo: Vec3,
     pub(super) hi: Vec3,
 }
@@ -367,7 +368,7 @@ impl Group {
 #[derive(Debug, Clone)]
 pub(super) struct Bounds {
     /// The groups in the order they were made, each with its sphere's hits; the last of
-    /// `GROUPS` takes every other sphere (`REST`). A list, not an array of empty groups:
+    /// `GROUPS` takes every other sphere (`SphereId::REST`). A list, not an array of empty groups:
     /// each span starts with none, and an array's boxes would be written for every span.
     pub(super) groups: heapless::Vec<Group, GROUPS>,
     /// The group of the previous hit's sphere: a sphere keeps its group once it has one, and
@@ -394,11 +395,11 @@ impl Bounds {
             self.last.1
         } else {
             // The sphere's group, or else a new one, or the last, which takes every other
-            // sphere (`REST`).
+            // sphere (`SphereId::REST`).
             let groups = &self.groups;
             let open = groups.len().min(GROUPS - 1);
             let g = (0..open)
-                .find(|&k| groups.get(k).is_some_and(|gr| gr.sphere as usize == sphere))
+                .find(|&k| groups.get(k).is_some_and(|gr| gr.sphere.index() == sphere))
                 .unwrap_or(open);
             if LAST {
                 self.last = (sphere, g);
@@ -411,7 +412,11 @@ impl Bounds {
             // first. A NaN coordinate stays in it, where `add_box` skips one: the group's
             // lists are then every sphere's (`gather`: not `bounded`), which holds.
             None => {
-                let sphere = if g + 1 < GROUPS { sphere as u16 } else { REST };
+                let sphere = if g + 1 < GROUPS {
+                    SphereId::new(sphere)
+                } else {
+                    SphereId::REST
+                };
                 let _ = self.groups.push(Group { sphere, lo, hi });
             }
         }

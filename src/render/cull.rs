@@ -3,9 +3,6 @@
 
 use super::*;
 
-/// The group of every other sphere.
-pub(super) const REST: u16 = u16::MAX - 1;
-
 /// The shadow candidates of one light for one hit group: every sphere ([`Candidates::ALL`]), or
 /// the spheres `pool[start..end]` (`Cull::pool`). A pair with `ALL` as `start > end` rather than
 /// an enum, so that the common question, whether there is no candidate, is one comparison: as
@@ -37,7 +34,7 @@ impl Candidates {
 
     /// The candidates in `pool`, or `None` for every sphere.
     #[inline]
-    pub(super) fn of(self, pool: &[u16]) -> Option<&[u16]> {
+    pub(super) fn of(self, pool: &[SphereId]) -> Option<&[SphereId]> {
         let Candidates { start, end } = self;
         // The common case, no candidate, without the slice's bounds checks.
         if start == end {
@@ -54,7 +51,7 @@ pub(super) enum Kept {
     /// None: shading traces each pixel's rays again.
     Nothing,
     /// One hit a pixel, in slot `k` of pixel `k` (or of the tile's row, `Cull::slot`): one
-    /// sample a pixel, as `t` and sphere (`NONE`: no hit), with the view direction where
+    /// sample a pixel, as `t` and sphere (`SphereId::NONE`: no hit), with the view direction where
     /// [`DIRS`] keeps it; 6 or 18 bytes a pixel, for microcontroller stacks.
     Pixels,
     /// Every sample of a supersampled span, sample `m` of pixel `k` in slot `m·SPAN + k` (see
@@ -93,8 +90,8 @@ pub(super) struct SpanHits {
     /// What the render path keeps besides (`lanes/`, `scalar.rs`): the view directions, and on
     /// hosts the span's shaded pixels and the tile's rows.
     pub(super) path: PathState,
-    /// Each slot's sphere (`NONE`: no hit).
-    pub(super) s: [u16; SPAN * KEPT],
+    /// Each slot's sphere (`SphereId::NONE`: no hit).
+    pub(super) s: [SphereId; SPAN * KEPT],
     /// Where the span has shadow lists, the hit group of each slot's hit (`NO_GROUP`: none),
     /// whose lists shading takes without searching the groups for the hit's sphere.
     pub(super) g: [u8; SPAN * KEPT],
@@ -121,8 +118,9 @@ pub(super) struct Spheres<const S: usize> {
 #[derive(Debug)]
 pub(super) struct ShadowLists<const S: usize, const L: usize> {
     pub(super) pool: List<S>,
-    /// The sphere of each hit group (`NONE`: unused, `REST`: every other sphere).
-    pub(super) groups: [u16; GROUPS],
+    /// The sphere of each hit group (`SphereId::NONE`: unused, `SphereId::REST`: every other
+    /// sphere).
+    pub(super) groups: [SphereId; GROUPS],
     /// Per group and light, its candidates.
     pub(super) ranges: [[Candidates; L]; GROUPS],
     /// The lists are valid for this span.
@@ -137,7 +135,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             hits: SpanHits {
                 t: [0.0; SPAN * KEPT],
                 path: PathState::new(),
-                s: [0; SPAN * KEPT],
+                s: [SphereId::new(0); SPAN * KEPT],
                 g: [0; SPAN * KEPT],
                 kept: Kept::Nothing,
                 p: [Vec3::ZERO; OFFS],
@@ -149,7 +147,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             },
             shadow: ShadowLists {
                 pool: heapless::Vec::new(),
-                groups: [0; GROUPS],
+                groups: [SphereId::new(0); GROUPS],
                 ranges: [[Candidates::listed(0, 0); L]; GROUPS],
                 culled: false,
             },
@@ -161,9 +159,9 @@ impl<const S: usize, const L: usize> Cull<S, L> {
 
     /// The stored primary hit of the span's pixel `k`, as `(t, sphere)`.
     #[inline]
-    pub(super) fn hit(&self, k: usize) -> Option<(f32, u16)> {
+    pub(super) fn hit(&self, k: usize) -> Option<(f32, SphereId)> {
         match (self.hits.t.get(k), self.hits.s.get(k)) {
-            (Some(&t), Some(&s)) if s != NONE => Some((t, s)),
+            (Some(&t), Some(&s)) if s != SphereId::NONE => Some((t, s)),
             _ => None,
         }
     }
@@ -195,11 +193,11 @@ impl<const S: usize, const L: usize> Cull<S, L> {
     pub(super) fn lists(&self, sphere: usize) -> Option<Lists<'_, L>> {
         let mut g = None;
         for (k, &s) in self.shadow.groups.iter().enumerate() {
-            if s as usize == sphere && s < REST {
+            if s.index() == sphere && s.is_sphere() {
                 g = Some(k);
                 break;
             }
-            if s == REST {
+            if s == SphereId::REST {
                 g = Some(k);
             }
         }
@@ -214,7 +212,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Lists<'c, const L: usize> {
     pub(super) ranges: &'c [Candidates; L],
-    pub(super) pool: &'c [u16],
+    pub(super) pool: &'c [SphereId],
 }
 
 impl<'c, const L: usize> Lists<'c, L> {
@@ -226,7 +224,7 @@ impl<'c, const L: usize> Lists<'c, L> {
 
     /// The candidate blockers of light `i`, or `None` when it must test every sphere.
     #[inline]
-    pub(super) fn light(self, i: usize) -> Option<&'c [u16]> {
+    pub(super) fn light(self, i: usize) -> Option<&'c [SphereId]> {
         self.ranges.get(i)?.of(self.pool)
     }
 }

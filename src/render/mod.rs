@@ -41,7 +41,7 @@ use crate::error::Error;
 use crate::geometry::{hit_point_near, Prepared, Ray};
 use crate::math::{powf, Color, Vec3};
 use crate::raster::{PixelBox, Screen};
-use crate::scene::{hit_from_offset, make_hit, Hit, Light, Scene};
+use crate::scene::{hit_from_offset, make_hit, Hit, Light, Scene, SphereId};
 use crate::shading::{follow, in_shadow_among, shade_lit, LightKind, T_EPS};
 
 mod candidates;
@@ -137,12 +137,12 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     shadow_rays: bool,
 }
 
-/// Sphere indices: a row's, a span's or a light's candidates.
-type List<const S: usize> = heapless::Vec<u16, S>;
+/// Sphere ids: a row's, a span's or a light's candidates.
+type List<const S: usize> = heapless::Vec<SphereId, S>;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
-    /// Sphere indices are stored as `u16`, two values kept as markers.
-    const FITS: () = assert!(S < REST as usize, "sphere capacity above 65533");
+    /// Sphere ids are two bytes, two values kept as markers.
+    const FITS: () = assert!(S < SphereId::REST.index(), "sphere capacity above 65533");
 
     /// Whether shadow rays find their candidates through sorted sweeps, or test every sphere
     /// against a span's bound: decided by the capacity, at compile time, so that a scene of a

@@ -26,11 +26,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// direction (soft-float Arm; elsewhere [`Frame::trace_span`] finds the same hits sphere by
     /// sphere); the other callers share [`Frame::primary_hit_among`].
     #[inline]
-    pub(super) fn primary_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<(f32, usize)> {
+    pub(super) fn primary_among(
+        &self,
+        ray: &Ray,
+        i: u32,
+        cands: &[SphereId],
+    ) -> Option<(f32, usize)> {
         let mut best: Option<(f32, usize)> = None;
         let mut tmax = f32::INFINITY;
         for &s in cands {
-            let s = s as usize;
+            let s = s.index();
             let (Some(b), Some(k)) = (self.tables.boxes.get(s), self.tables.eye.get(s)) else {
                 continue;
             };
@@ -48,7 +53,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// [`Frame::primary_among`] as a hit record. Out of line: one copy for the callers off
     /// the hot path (several samples per pixel, no shadow rays, single pixels).
     #[inline(never)]
-    pub(super) fn primary_hit_among(&self, ray: &Ray, i: u32, cands: &[u16]) -> Option<Hit> {
+    pub(super) fn primary_hit_among(&self, ray: &Ray, i: u32, cands: &[SphereId]) -> Option<Hit> {
         let (t, s) = self.primary_among(ray, i, cands)?;
         self.eye_hit(ray, t, s)
     }

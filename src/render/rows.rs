@@ -40,7 +40,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let mut cands: List<S> = heapless::Vec::new();
         for (s, b) in self.tables.boxes.iter().enumerate() {
             if b.contains(i, j) {
-                let _ = cands.push(s as u16);
+                let _ = cands.push(SphereId::new(s));
             }
         }
         self.average(i, j, |ray| {
@@ -137,7 +137,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         cull.spheres.row.clear();
         for (s, b) in self.tables.boxes.iter().enumerate() {
             if b.has_row(j) {
-                let _ = cull.spheres.row.push(s as u16);
+                let _ = cull.spheres.row.push(SphereId::new(s));
             }
         }
         self.start_miss(cull);
@@ -193,15 +193,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             // The scalar path's speed builds build the hit record where they shade it; hosts
             // and size builds go on below.
             if INLINE_SHADING {
-                return self.shade_stored(&ray, t, s as usize, cull.lists_at(k));
+                return self.shade_stored(&ray, t, s.index(), cull.lists_at(k));
             }
             // The hit record from (t, sphere): `make_hit` is a pure function of them. Its ray
             // built anew from the values, not read back from `ray`, which shading takes by
             // address: the direction and eye stay in registers, not copied out of memory.
             let first = if KEEPS_OFFSETS && SPHERE_MAJOR {
-                self.kept_hit(&ray, t, s as usize, k, cull)
+                self.kept_hit(&ray, t, s.index(), k, cull)
             } else {
-                self.eye_hit(&Ray::new(self.camera.eye(), dir), t, s as usize)
+                self.eye_hit(&Ray::new(self.camera.eye(), dir), t, s.index())
             };
             self.shade_from(&ray, first, cull.lists_at(k))
         } else if KEPT > 1 && cull.hits.kept == Kept::Samples {

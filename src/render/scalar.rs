@@ -9,8 +9,8 @@ use super::*;
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The closest primary hits of the span's pixels `i0..i1` for one sample (`ox`, row
     /// coordinate `y`) into the slots `base..`: view directions in `path`, `(t, sphere)` in
-    /// `hit_t`/`hit_s` (`NONE`: a miss). Sphere by sphere in scene order, each over the columns of
-    /// its box: every pixel sees its candidates in the order and with the `tmax` of
+    /// `hit_t`/`hit_s` (`SphereId::NONE`: a miss). Sphere by sphere in scene order, each over
+    /// the columns of its box: every pixel sees its candidates in the order and with the `tmax` of
     /// [`Frame::primary_among`], so the hits are its hits, bit for bit, while a sphere's
     /// constants and box stay in registers across its columns.
     #[inline]
@@ -55,13 +55,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             *d = row.ray(column + ox).dir;
             // No limit yet, finite for `hit_outside` (any root is finite).
             *t = f32::MAX;
-            *s = NONE;
+            *s = SphereId::NONE;
             column += 1.0;
         }
         for &sphere in &cull.spheres.span {
             let (Some(b), Some(k)) = (
-                self.tables.boxes.get(sphere as usize),
-                self.tables.eye.get(sphere as usize),
+                self.tables.boxes.get(sphere.index()),
+                self.tables.eye.get(sphere.index()),
             ) else {
                 continue;
             };
@@ -166,8 +166,8 @@ pub(super) type Found<const S: usize> = ();
 impl<const S: usize> Blockers<'_, S> {
     /// Sphere `s` may be a candidate: kept if it can block.
     #[inline(always)]
-    pub(super) fn consider(&mut self, s: u16) {
-        if let Some(sphere) = self.spheres.get(s as usize) {
+    pub(super) fn consider(&mut self, s: SphereId) {
+        if let Some(sphere) = self.spheres.get(s.index()) {
             if self
                 .light
                 .may_block(sphere.center, sphere.radius, self.q, self.rho)
@@ -195,7 +195,7 @@ impl<const S: usize> Sweep<S> {
         _key: f32,
         _slack: f32,
         _key2: f32,
-        _consider: &mut impl FnMut(u16),
+        _consider: &mut impl FnMut(SphereId),
     ) -> Option<usize> {
         Some(i)
     }

@@ -93,7 +93,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The spheres that can block light `i` for a hit with the span lists `lists` (a primary
     /// hit's), or every sphere.
     #[inline(always)]
-    pub(super) fn candidates<'c>(&'c self, lists: Option<Lists<'c, L>>, i: usize) -> &'c [u16] {
+    pub(super) fn candidates<'c>(
+        &'c self,
+        lists: Option<Lists<'c, L>>,
+        i: usize,
+    ) -> &'c [SphereId] {
         // A slice in both cases: one copy of the shadow tests, and a tight loop.
         lists.and_then(|l| l.light(i)).unwrap_or(&self.tables.all)
     }
@@ -144,7 +148,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     pub(super) fn shadow_test(
         &self,
         hit: &Hit,
-        cands: &[u16],
+        cands: &[SphereId],
         i: usize,
         light: &Light,
         (vx, vy, vz): (f32, f32, f32),
@@ -152,7 +156,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let v = Vec3::new(vx, vy, vz);
         let cs = self.light_consts(i, light);
         let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
-        let cands = cands.iter().map(|&j| j as usize);
+        let cands = cands.iter().map(|&j| j.index());
         in_shadow_among(self.scene, hit, light, v, consts, cands)
     }
 
@@ -165,7 +169,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         i: u32,
         j: u32,
         slot: usize,
-        (t, s): (f32, u16),
+        (t, s): (f32, SphereId),
         cull: &Cull<S, L>,
     ) -> Color {
         let ray = match cull.dir(slot) {
@@ -176,9 +180,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
         };
         let first = if KEEPS_OFFSETS && SPHERE_MAJOR {
-            self.kept_hit(&ray, t, s as usize, slot, cull)
+            self.kept_hit(&ray, t, s.index(), slot, cull)
         } else {
-            self.eye_hit(&ray, t, s as usize)
+            self.eye_hit(&ray, t, s.index())
         };
         self.shade_from(&ray, first, cull.lists_at(slot))
     }

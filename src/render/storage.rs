@@ -72,8 +72,8 @@ impl<const S: usize, const L: usize> FrameStorage<S, L> {
         self.sweeps.clear();
         self.all.clear();
         self.near.clear();
-        // Capacity S, at most S spheres (below `REST`, `Frame::FITS`), and at most L lights
-        // (the scene's capacity): none of the pushes can fail.
+        // Capacity S, at most S spheres (below `SphereId::REST`, `Frame::FITS`), and at most L
+        // lights (the scene's capacity): none of the pushes can fail.
         let screen = Screen::new(camera);
         for (s, sphere) in scene.spheres().iter().enumerate() {
             let k = Prepared::exact(camera.eye(), sphere);
@@ -81,7 +81,7 @@ impl<const S: usize, const L: usize> FrameStorage<S, L> {
             let _ = self
                 .near
                 .push(crate::geometry::offset_is_near(k.f, k.r, scene.near2(s)));
-            let _ = self.all.push(s as u16);
+            let _ = self.all.push(SphereId::new(s));
             let _ = self.eye.push(k);
         }
         let axes = camera.basis();

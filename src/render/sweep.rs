@@ -31,7 +31,7 @@ pub(super) struct Sweep<const S: usize> {
     /// below `b` (one more than the buckets, the last the number of entries), so that a
     /// search for a key needs only its bucket's few entries, not a binary search over all of
     /// them (a chain of dependent loads).
-    pub(super) start: List<S>,
+    pub(super) start: heapless::Vec<u16, S>,
     /// The smallest key, and buckets per unit of key (zero: one bucket).
     pub(super) k_lo: f32,
     pub(super) per_key: f32,
@@ -50,7 +50,7 @@ pub(super) struct Entry {
     pub(super) key: f32,
     /// The half-width of its padded cone (angle) or radius (length) along the key.
     pub(super) half: f32,
-    pub(super) sphere: u16,
+    pub(super) sphere: SphereId,
     /// Its coordinate along `Sweep::axis2`.
     pub(super) key2: f32,
 }
@@ -60,7 +60,7 @@ impl Entry {
         Entry {
             key,
             half,
-            sphere: sphere as u16,
+            sphere: SphereId::new(sphere),
             key2,
         }
     }
@@ -220,7 +220,7 @@ impl<const S: usize> Sweep<S> {
         band: f32,
         slack: f32,
         key2: f32,
-        consider: &mut impl FnMut(u16),
+        consider: &mut impl FnMut(SphereId),
     ) {
         let (hi, n) = (key + band, self.key.len());
         // Within a few entries of the first key ≥ key − band: the keys before that are more

@@ -7,10 +7,12 @@ use crate::geometry::{hit_point_near, offset_is_near, Prepared, Ray, Sphere, NEA
 use crate::math::{Color, Vec3};
 
 mod hit;
+mod id;
 mod light;
 mod material;
 
 pub use hit::*;
+pub(crate) use id::SphereId;
 pub use light::*;
 pub use material::*;
 

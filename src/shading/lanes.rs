@@ -2,6 +2,7 @@
 //! (`cfg(lanes)`), each lane the scalar test's operations in the scalar order.
 
 use super::*;
+use crate::scene::SphereId;
 
 /// Four hits on one sphere, in vector lanes (`cfg(lanes)`): [`Hit`]'s fields, for
 /// [`in_shadow4`].
@@ -50,7 +51,7 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
     to: &V,
     ask: u32,
     light_c: impl Fn(usize) -> Option<f32>,
-    candidates: &[u16],
+    candidates: &[SphereId],
 ) -> u32 {
     use crate::geometry::leaving_blocks4;
     use crate::simd::CmpLt;
@@ -61,7 +62,7 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
     let inside = inside | small;
     let mut out = 0;
     for l in ones(ask & inside) {
-        let cands = candidates.iter().map(|&j| j as usize);
+        let cands = candidates.iter().map(|j| j.index());
         if in_shadow_among(scene, &h.hit(l), light, to.lane(l), &light_c, cands) {
             out |= 1 << l;
         }
@@ -82,7 +83,7 @@ pub(crate) fn in_shadow4<const S: usize, const L: usize>(
         if open == 0 {
             break;
         }
-        let j = j as usize;
+        let j = j.index();
         let Some(s) = spheres.get(j) else { continue };
         if j == h.sphere {
             continue;

@@ -64,15 +64,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         &self,
         [dx, dy, dz]: [&mut [f32; PAD]; 3],
         ts: &mut [f32],
-        ss: &mut [u16],
+        ss: &mut [SphereId],
         points: Option<(&mut [Vec3], &mut [Vec3])>,
-        span: &[u16],
+        span: &[SphereId],
         (i0, i1, ox, y, row): (u32, u32, f32, f32, u32),
     ) {
         use crate::geometry::LANES;
         use crate::math::finite;
         use crate::simd::F;
-        let (mut t, mut sp) = ([f32::INFINITY; PAD], [NONE; PAD]);
+        let (mut t, mut sp) = ([f32::INFINITY; PAD], [SphereId::NONE; PAD]);
         let len = ts.len().min(SPAN);
         let lane = F::from(core::array::from_fn(|l| l as f32));
         for m in (0..len).step_by(LANES) {
@@ -95,8 +95,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         for &sphere in span {
             let (Some(b), Some(k)) = (
-                self.tables.boxes.get(sphere as usize),
-                self.tables.eye.get(sphere as usize),
+                self.tables.boxes.get(sphere.index()),
+                self.tables.eye.get(sphere.index()),
             ) else {
                 continue;
             };
@@ -171,14 +171,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         os: &mut [Vec3],
         (dx, dy, dz): (&[f32; PAD], &[f32; PAD], &[f32; PAD]),
         t: &[f32; PAD],
-        sp: &[u16; PAD],
+        sp: &[SphereId; PAD],
     ) {
         use crate::geometry::{hit_point_far4, LANES};
         use crate::simd::F;
         let eye = self.camera.eye();
         let spheres = self.scene.spheres();
         let one = |m: usize, ps: &mut [Vec3], os: &mut [Vec3]| {
-            let s = sp[m] as usize;
+            let s = sp[m].index();
             if let (Some(k), Some(sphere), Some(p), Some(o)) = (
                 self.tables.eye.get(s),
                 spheres.get(s),
@@ -194,11 +194,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         while m < len {
             let s = sp[m];
             let whole = m + LANES <= len && sp[m..m + LANES].iter().all(|&x| x == s);
-            let near = whole && self.offset_near(s as usize);
+            let near = whole && self.offset_near(s.index());
             // Four hits on one sphere beyond `near2`: `hit_point_far` lane by lane.
             if whole && !near {
                 if let (Some(k), Some(sphere)) =
-                    (self.tables.eye.get(s as usize), spheres.get(s as usize))
+                    (self.tables.eye.get(s.index()), spheres.get(s.index()))
                 {
                     let lanes = |a: &[f32; PAD]| {
                         F::from(core::array::from_fn::<f32, LANES, _>(|l| a[m + l]))
@@ -222,7 +222,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             if !near {
                 let end = if whole { m + LANES } else { m + 1 };
                 for (q, &sq) in sp.iter().enumerate().take(end.min(len)).skip(m) {
-                    if sq != NONE {
+                    if sq != SphereId::NONE {
                         one(q, ps, os);
                     }
                 }
@@ -288,7 +288,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         cull.spheres.row.clear();
         for (s, b) in self.tables.boxes.iter().enumerate() {
             if (j..j + n).any(|r| b.has_row(r)) {
-                let _ = cull.spheres.row.push(s as u16);
+                let _ = cull.spheres.row.push(SphereId::new(s));
             }
         }
         cull.hits.path.rows = n;
@@ -439,7 +439,7 @@ pub(super) type Found<const S: usize> = List<S>;
 impl<const S: usize> Blockers<'_, S> {
     /// Sphere `s` may be a candidate.
     #[inline(always)]
-    pub(super) fn consider(&mut self, s: u16) {
+    pub(super) fn consider(&mut self, s: SphereId) {
         if self.found.push(s).is_err() {
             self.full = true;
         }
@@ -450,8 +450,9 @@ impl<const S: usize> Blockers<'_, S> {
     pub(super) fn finish(&mut self) -> bool {
         let mut full = self.full;
         for c in self.found.chunks(4) {
-            let ids: [u16; 4] = core::array::from_fn(|l| c.get(l).copied().unwrap_or(NONE));
-            let sph = ids.map(|i| self.spheres.get(i as usize).copied());
+            let ids: [SphereId; 4] =
+                core::array::from_fn(|l| c.get(l).copied().unwrap_or(SphereId::NONE));
+            let sph = ids.map(|i| self.spheres.get(i.index()).copied());
             let m = sph.map(|s| s.map_or(Vec3::ZERO, |s| s.center));
             let r = sph.map(|s| s.map_or(0.0, |s| s.radius));
             let pass = self.light.may_block4(m, r, self.q, self.rho);
@@ -477,7 +478,7 @@ impl<const S: usize> Sweep<S> {
         key: f32,
         slack: f32,
         key2: f32,
-        consider: &mut impl FnMut(u16),
+        consider: &mut impl FnMut(SphereId),
     ) -> Option<usize> {
         use crate::simd::CmpLe;
         use crate::simd::{bits, ones, F};

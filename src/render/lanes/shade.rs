@@ -31,11 +31,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 break;
             };
             // Misses show the background, which `px` already holds: done, whatever the rest.
-            let none = (0..4).fold(0u32, |b, l| b | ((ss[l] == NONE) as u32) << l);
+            let none = (0..4).fold(0u32, |b, l| b | ((ss[l] == SphereId::NONE) as u32) << l);
             done |= none << k0;
             let hits = !none & 0b1111;
             if hits == 0b1111 && ss.iter().all(|&x| x == ss[0]) {
-                let colour = self.shade4::<true>(cull, q, ss[0] as usize, hits, ts, [x, y, z]);
+                let colour = self.shade4::<true>(cull, q, ss[0].index(), hits, ts, [x, y, z]);
                 keep4(self, &mut px, &mut done, k0, hits, colour);
             } else if hits != 0 {
                 self.shade4_mixed(cull, (k0, q), ss, hits, ts, [x, y, z], &mut px, &mut done);
@@ -55,7 +55,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         &self,
         cull: &Cull<S, L>,
         (k0, q): (usize, usize),
-        ss: &[u16],
+        ss: &[SphereId],
         hits: u32,
         ts: &[f32],
         xyz: [[f32; 4]; 3],
@@ -66,7 +66,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         while let Some(&s) = ss.get(todo.trailing_zeros() as usize) {
             let active = (0..4).fold(0u32, |b, l| b | ((ss.get(l) == Some(&s)) as u32) << l) & todo;
             todo &= !active;
-            let colour = self.shade4::<false>(cull, q, s as usize, active, ts, xyz);
+            let colour = self.shade4::<false>(cull, q, s.index(), active, ts, xyz);
             keep4(self, px, done, k0, active, colour);
         }
     }
