@@ -4,10 +4,13 @@
 //! file), and the CRC-32 of its frame must equal the constant committed there, which is what the
 //! firmware prints under QEMU on both boards. The QEMU run itself is the ignored test below.
 
+#[path = "../examples/firmware/src/random_scenes.rs"]
+mod random_scenes;
 #[allow(dead_code)]
 #[path = "../examples/firmware/src/scene.rs"]
 mod scene;
 
+use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use microray::Frame;
 
 fn frame_crcs() -> (u32, u32, u32) {
@@ -16,7 +19,12 @@ fn frame_crcs() -> (u32, u32, u32) {
     let camera = scene::camera().unwrap();
     let mut storage = microray::FrameStorage::new();
     let frame = Frame::new(&scene, &camera, scene::options(), &mut storage).unwrap();
-    let (crc, pixels) = scene::crc_rgb888(&frame);
+    let (crc, pixels) = scene::crc_rgb888::<
+        { scene::WIDTH },
+        { scene::HEIGHT },
+        { scene::SPHERES },
+        { scene::LIGHTS },
+    >(&frame);
     let mut strip = vec![
         embedded_graphics::pixelcolor::Rgb565::new(0, 0, 0);
         scene::WIDTH as usize * scene::STRIP_ROWS
@@ -34,6 +42,58 @@ fn host_crc_matches_the_committed_firmware_crc() {
         crc565,
         scene::EXPECTED_CRC32_RGB565,
         "host crc32_rgb565={crc565:08x}"
+    );
+}
+
+/// Every seeded scene builds, renders the brute-force pixels, and has the CRC committed in
+/// `random_scenes.rs`, which the `scenes` firmware checks on both boards (`run.sh`).
+#[test]
+fn random_scenes_match_the_committed_crcs() {
+    use random_scenes::{build, crc_of, kind, RandomScene, COUNT, EXPECTED, HEIGHT, WIDTH};
+    let mut storage = Box::new(microray::FrameStorage::new());
+    let mut crcs = [0u32; COUNT];
+    let (mut lit, mut mirrors, mut samples) = (0, 0, [0; 4]);
+    for (k, crc) in crcs.iter_mut().enumerate() {
+        let mut scene = RandomScene::new();
+        *crc = crc_of(k, &mut scene, &mut storage)
+            .unwrap_or_else(|e| panic!("scene {k} ({:?}): {e}", kind(k)));
+        // The accelerated frame is the brute-force one (what `accelerated.rs` asserts on its
+        // own scenes), so the CRCs pin down the model's pixels, not only agreement.
+        let (camera, options) = build(k, &mut RandomScene::new()).unwrap();
+        let frame = Frame::new(&scene, &camera, options, &mut storage).unwrap();
+        let n = (WIDTH * HEIGHT) as usize;
+        let (mut fast, mut brute) = (vec![Rgb888::BLACK; n], vec![Rgb888::BLACK; n]);
+        frame.render_rows(0, &mut fast).unwrap();
+        frame.render_rows_brute(0, &mut brute).unwrap();
+        assert!(
+            fast == brute,
+            "scene {k} ({:?}): accelerated differs from brute force",
+            kind(k)
+        );
+        // Not a flat image: the scene shows something.
+        assert!(
+            fast.iter().any(|&p| p != fast[0]),
+            "scene {k} ({:?}) is flat",
+            kind(k)
+        );
+        lit += !scene.lights().is_empty() as u32;
+        let mirror = |m: &microray::Material| m.mirror != microray::Color::splat(0.0);
+        mirrors += (scene.max_depth() > 0 && scene.materials().iter().any(mirror)) as u32;
+        samples[options.samples as usize] += 1;
+    }
+    assert_eq!(lit as usize, COUNT);
+    assert!(
+        mirrors >= 7 && samples[1..].iter().all(|&n| n >= 15),
+        "{mirrors} {samples:?}"
+    );
+    let differ: Vec<_> = (0..COUNT).filter(|&k| crcs[k] != EXPECTED[k]).collect();
+    assert!(
+        differ.is_empty(),
+        "scenes {differ:?} differ; host CRCs:\n{}",
+        crcs.iter()
+            .map(|c| format!("0x{c:08x},"))
+            .collect::<Vec<_>>()
+            .join(" ")
     );
 }
 

@@ -8,8 +8,9 @@
 # the "s" build end in `_s`. `instructions*` are QEMU -icount instruction counts measured with
 # SysTick, not cycles. Sizes come from the linked ELF (tools/elfsize.py by symbol, plus
 # tools/inlined.py for microray's code inlined into the firmware's); the panic check walks
-# the call graph of the disassembly (tools/panic_check.py). Exits non-zero when a CRC differs
-# from the one committed in src/scene.rs, the panic check fails, (m4f) vsqrt.f32 is missing, or
+# the call graph of the disassembly (tools/panic_check.py). The `scenes` binary renders the 56
+# seeded scenes of src/random_scenes.rs (scenes_differing=). Exits non-zero when a CRC differs
+# from the one committed in src/scene.rs or src/random_scenes.rs, the panic check fails, (m4f) vsqrt.f32 is missing, or
 # a budget is broken: stack high-water (whole run or render passes) above 2 KiB on any build,
 # or (m4f) microray's flash above 16 KiB at opt "s" or more than 400 instructions a pixel at
 # opt 3.
@@ -56,6 +57,21 @@ run() { # $1 = cargo profile, $2 = key suffix
   sed "s/^\([A-Za-z0-9_]*\)=/\1$suffix=/" <<<"$out"
   [ "$status" -eq 0 ] || { echo "error$suffix=qemu exit status $status"; fail=1; }
   grep -qx "crc32=$expected" <<<"$out" || { echo "error$suffix=crc32 differs from src/scene.rs ($expected)"; fail=1; }
+  # The seeded scenes of src/random_scenes.rs, a CRC each (scene_crc=K CRC), each checked by
+  # the firmware against the committed list.
+  local scenes
+  set +e
+  scenes=$(timeout 900 qemu-system-arm "${machine[@]}" -nographic -monitor none -serial none \
+        -semihosting-config enable=on,target=native -icount shift=0 \
+        -kernel "target/$target/$profile/scenes")
+  status=$?
+  set -e
+  grep -v '^scene_crc=' <<<"$scenes" | sed "s/^\([A-Za-z0-9_]*\)=/\1$suffix=/"
+  [ "$status" -eq 0 ] || { echo "error$suffix=scenes: qemu exit status $status"; fail=1; }
+  grep -qx "scenes_differing=0" <<<"$scenes" || {
+    grep "^scene_crc=" <<<"$scenes" > "target/scene_crcs_${target}_$profile.txt"
+    echo "error$suffix=scene CRCs differ from src/random_scenes.rs (target/scene_crcs_${target}_$profile.txt)"
+    fail=1; }
   local sizes inlined
   sizes=$(python3 tools/elfsize.py "$elf" "$suffix")
   echo "$sizes"

@@ -125,7 +125,7 @@ fn main() -> ! {
 
     // Pass 1: Frame::draw → CRC display (timed).
     let t0 = ticks();
-    let (crc, pixels) = scene::crc_rgb888(frame);
+    let (crc, pixels) = scene::crc_rgb888::<WIDTH, HEIGHT, SPHERES, LIGHTS>(frame);
     let t1 = ticks();
     // Pass 2: dithered Rgb565 strip.
     let crc565 = scene::crc_rgb565_dithered(frame, strip).unwrap_or_else(|e| fail("strip", e));
