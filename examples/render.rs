@@ -87,7 +87,7 @@ fn run(args: Args) -> Result<(), Failure> {
     // trace tasks' own time) leaves its image out likewise: its front end makes the image with
     // the view. Magenta, so that a pixel no band wrote would show.
     let alloc = Instant::now();
-    let mut image = vec![Rgb888::MAGENTA; width as usize * height as usize];
+    let mut image = allocated(width as usize * height as usize, Rgb888::MAGENTA, "image")?;
     let alloc_ms = alloc.elapsed().as_secs_f64() * 1e3;
 
     let (ms, pool_ms) = render(&file.scene, &camera, options, threads, &mut image)?;
@@ -262,12 +262,27 @@ fn progress(done: &AtomicU32, finished: &AtomicBool, total: u32) {
     }
 }
 
+/// `n` copies of `value`, or exit 1 naming what did not fit where the memory is short (a plain
+/// `vec!` would abort the process instead).
+fn allocated<T: Clone>(n: usize, value: T, what: &str) -> Result<Vec<T>, Failure> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| {
+        let mb = (n as f64 * std::mem::size_of::<T>() as f64 / 1e6).ceil();
+        Failure(1, format!("not enough memory for the {what} ({mb} MB)"))
+    })?;
+    v.resize(n, value);
+    Ok(v)
+}
+
 /// Writes to a temporary file beside `out`, then renames it: a failed write leaves no PNG and
 /// never touches an existing file.
 fn write_png(out: &Path, w: u32, h: u32, image: &[Rgb888]) -> Result<(), Failure> {
     let io = |e: &dyn std::fmt::Display| Failure(1, format!("{}: {e}", out.display()));
     let target = output_target(out)?;
-    let mut pixmap = tiny_skia::Pixmap::new(w, h).ok_or_else(|| io(&"image too large"))?;
+    let size = tiny_skia::IntSize::from_wh(w, h).ok_or_else(|| io(&"image too large"))?;
+    let data = allocated(4 * w as usize * h as usize, 0u8, "PNG")?;
+    let mut pixmap =
+        tiny_skia::Pixmap::from_vec(data, size).ok_or_else(|| io(&"image too large"))?;
     for (dst, p) in pixmap.pixels_mut().iter_mut().zip(image) {
         *dst = tiny_skia::PremultipliedColorU8::from_rgba(p.r(), p.g(), p.b(), 255)
             .expect("opaque colours are always valid");

@@ -330,3 +330,123 @@ fn an_interrupted_render_leaves_nothing() {
         assert!(left.is_empty(), "SIG{signal} left {left:?}");
     }
 }
+
+/// The width and height in a PNG's header.
+fn png_size(png: &[u8]) -> (u32, u32) {
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n") && &png[12..16] == b"IHDR");
+    let be = |i: usize| u32::from_be_bytes(png[i..i + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+/// The largest image the renderer accepts renders (about 3 GB at its peak: the image, the PNG's
+/// pixels and its encoding); one pixel more is invalid input.
+#[test]
+fn the_largest_image_renders_and_one_more_is_an_error() {
+    let dir = scratch("largest");
+    let out = dir.join("largest.png");
+    let size = microray::camera::MAX_SIZE.to_string();
+    let o = run(&[
+        "tests/data/flat.toml",
+        "--width",
+        &size,
+        "--height",
+        &size,
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let png = std::fs::read(&out).unwrap();
+    assert_eq!(
+        png_size(&png),
+        (microray::camera::MAX_SIZE, microray::camera::MAX_SIZE)
+    );
+    std::fs::remove_file(&out).unwrap();
+    let over = (microray::camera::MAX_SIZE + 1).to_string();
+    fails(
+        &dir,
+        &["tests/data/flat.toml", "--width", &over],
+        2,
+        "width",
+    );
+}
+
+/// Memory too short for the image or for its PNG is an error (exit 1) that leaves the output
+/// as it was, not an abort: run under limits of the address space.
+#[cfg(target_os = "linux")]
+#[test]
+fn short_memory_is_an_error_not_an_abort() {
+    let dir = scratch("memory");
+    let out = dir.join("keep.png");
+    std::fs::write(&out, b"precious").unwrap();
+    let size = microray::camera::MAX_SIZE.to_string();
+    // The image (1 074 MB) does not fit in 1 GB of address space; in 1.5 GB it does and the
+    // PNG's pixels (as much again) do not. One thread, so that no worker's stack counts.
+    for (limit_kb, what) in [("1000000", "image"), ("1500000", "PNG")] {
+        let o = Command::new("sh")
+            .args(["-c", &format!("ulimit -v {limit_kb} && exec \"$0\" \"$@\"")])
+            .arg(renderer())
+            .args(["tests/data/flat.toml", "--width", &size, "--height", &size])
+            .args(["--threads", "1", "-o", out.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(1), "{limit_kb} kB: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!("not enough memory for the {what} (1074 MB)")),
+            "{limit_kb} kB: {}",
+            stderr(&o)
+        );
+        assert_eq!(std::fs::read(&out).unwrap(), b"precious");
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            1,
+            "files left behind"
+        );
+    }
+}
+
+/// A disk that fills while the PNG is written: exit 1 with the system's message, the existing
+/// output as it was, no temporary file. On a 64 KiB tmpfs mounted in a user namespace
+/// (`unshare`); where none can be mounted, on `/dev/full`
+/// (`the_output_is_written_as_a_plain_write_would`), and this test says so.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_disk_exits_1_and_keeps_the_existing_output() {
+    let dir = scratch("full");
+    let mnt = dir.join("disk");
+    std::fs::create_dir(&mnt).unwrap();
+    // Inside the namespace: mount, put a 40 KB output there, render a PNG that does not fit in
+    // the rest, and report what is left. The mount ends with the namespace.
+    let script = r#"
+        mount -t tmpfs -o size=64k tmpfs "$1" || exit 99
+        head -c 40000 /dev/urandom > "$1/out.png"
+        cp "$1/out.png" "$2/before.png"
+        "$3" tests/data/lit.toml --width 640 --height 480 -o "$1/out.png"
+        echo "code=$?"
+        cmp -s "$1/out.png" "$2/before.png" && echo "output=kept"
+        echo "files=$(ls -A "$1" | tr '\n' ' ')"
+    "#;
+    let o = Command::new("unshare")
+        .args(["-rm", "sh", "-c", script, "sh"])
+        .arg(&mnt)
+        .arg(&dir)
+        .arg(renderer())
+        .output();
+    let o = match o {
+        Ok(o) if o.status.code() != Some(99) && o.status.success() => o,
+        other => {
+            eprintln!(
+                "skipped: no tmpfs in a user namespace here ({other:?}); /dev/full is tested"
+            );
+            return;
+        }
+    };
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("code=1"), "{out}{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("No space left on device"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(out.contains("output=kept"), "{out}");
+    assert!(out.contains("files=out.png \n"), "{out}");
+}
