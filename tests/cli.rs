@@ -450,3 +450,94 @@ fn a_full_disk_exits_1_and_keeps_the_existing_output() {
     assert!(out.contains("output=kept"), "{out}");
     assert!(out.contains("files=out.png \n"), "{out}");
 }
+
+/// A scene at the desktop capacities (1024 spheres, 32 lights, shadows, a mirror) renders the
+/// library's pixels; one sphere or one light more is invalid input naming the key.
+#[test]
+fn a_scene_at_the_capacities_renders_and_one_more_is_an_error() {
+    let dir = scratch("capacity");
+    let mut toml = String::from(
+        "[camera]\neye = [0, 0, 40]\nlook_at = [0, 0, 0]\n\n\
+         [render]\nwidth = 96\nheight = 72\nshadows = true\nmax_depth = 2\n\n",
+    );
+    // A 32×32 grid of spheres in the plane z = 0, the middle one a mirror.
+    for i in 0..1024 {
+        let (x, y) = ((i % 32) as f32 - 15.5, (i / 32) as f32 - 15.5);
+        let mirror = if i == 528 { "mirror = 0.8\n" } else { "" };
+        toml += &format!(
+            "[[sphere]]\ncenter = [{x}, {y}, {}]\nradius = 0.45\n{mirror}\n",
+            (i % 7) as f32 * 0.1
+        );
+    }
+    // Point lights in a ring in front of the grid, every fourth one a directional light.
+    for i in 0..32 {
+        let a = i as f32 * core::f32::consts::TAU / 32.0;
+        let (s, c) = (libm::sinf(a), libm::cosf(a));
+        toml += &if i % 4 == 0 {
+            format!("[[light]]\nkind = \"directional\"\ndirection = [{s}, {c}, -2]\nintensity = 0.03\n\n")
+        } else {
+            format!(
+                "[[light]]\nkind = \"point\"\nposition = [{}, {}, 12]\nintensity = 0.03\n\n",
+                20.0 * c,
+                20.0 * s
+            )
+        };
+    }
+    let scene = dir.join("full.toml");
+    std::fs::write(&scene, &toml).unwrap();
+    let out = dir.join("full.png");
+    let o = run(&[scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+
+    let file: Box<microray::scene_file::Desktop> =
+        Box::new(microray::scene_file::load(&scene).unwrap());
+    assert_eq!(
+        (file.scene.spheres().len(), file.scene.lights().len()),
+        (1024, 32)
+    );
+    let camera = file.view.camera(96, 72).unwrap();
+    let mut storage = Box::new(microray::FrameStorage::new());
+    let frame = microray::Frame::new(&file.scene, &camera, file.options, &mut storage).unwrap();
+    let mut want = vec![embedded_graphics::pixelcolor::Rgb888::new(0, 0, 0); 96 * 72];
+    frame.render(&mut want).unwrap();
+    let png = tiny_skia::Pixmap::load_png(&out).unwrap();
+    assert_eq!((png.width(), png.height()), (96, 72));
+    use embedded_graphics::pixelcolor::RgbColor;
+    let got: Vec<[u8; 3]> = png
+        .pixels()
+        .iter()
+        .map(|p| [p.red(), p.green(), p.blue()])
+        .collect();
+    let want: Vec<[u8; 3]> = want.iter().map(|p| [p.r(), p.g(), p.b()]).collect();
+    assert!(got == want, "the renderer's PNG differs from Frame::render");
+    let distinct: std::collections::HashSet<_> = want.iter().collect();
+    assert!(
+        distinct.len() > 50,
+        "a flat image proves nothing: {} colours",
+        distinct.len()
+    );
+
+    std::fs::remove_file(&out).unwrap();
+    std::fs::write(
+        &scene,
+        format!("{toml}[[sphere]]\ncenter = [0, 0, 5]\nradius = 1\n"),
+    )
+    .unwrap();
+    fails(
+        &dir,
+        &[scene.to_str().unwrap()],
+        2,
+        "1025 spheres, more than the capacity of 1024",
+    );
+    std::fs::write(
+        &scene,
+        format!("{toml}[[light]]\nkind = \"point\"\nposition = [0, 0, 9]\n"),
+    )
+    .unwrap();
+    fails(
+        &dir,
+        &[scene.to_str().unwrap()],
+        2,
+        "33 lights, more than the capacity of 32",
+    );
+}
