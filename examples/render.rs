@@ -6,7 +6,7 @@
 //! Exit codes: 0 done, 1 an I/O failure, 2 invalid input. On any failure no PNG is written and
 //! an existing file at the output path is left untouched.
 
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, AtomicUsize, Ordering};
@@ -223,6 +223,43 @@ fn render(
     })
 }
 
+/// The PNG of `image` (8-bit RGBA, opaque), encoded a row at a time: no copy of the image,
+/// and its bytes in memory reserved fallibly, so that short memory is an error.
+fn encode_png(w: u32, h: u32, image: &[Rgb888]) -> Result<Vec<u8>, png::EncodingError> {
+    let mut sink = Fallible(Vec::new());
+    let mut encoder = png::Encoder::new(&mut sink, w, h);
+    encoder.set_color(png::ColorType::Rgba);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header()?;
+    let mut stream = writer.stream_writer()?;
+    let mut row = Vec::with_capacity(4 * w as usize);
+    for pixels in image.chunks_exact(w as usize) {
+        row.clear();
+        row.extend(pixels.iter().flat_map(|p| [p.r(), p.g(), p.b(), 255]));
+        stream.write_all(&row)?;
+    }
+    stream.finish()?;
+    writer.finish()?;
+    Ok(sink.0)
+}
+
+/// A `Vec` that reports a failed allocation as `ErrorKind::OutOfMemory` instead of aborting.
+struct Fallible(Vec<u8>);
+
+impl Write for Fallible {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0
+            .try_reserve(buf.len())
+            .map_err(|_| std::io::Error::from(std::io::ErrorKind::OutOfMemory))?;
+        self.0.extend_from_slice(buf);
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
 /// Runs its closure when dropped.
 struct Finally<F: FnMut()>(F);
 
@@ -279,15 +316,12 @@ fn allocated<T: Clone>(n: usize, value: T, what: &str) -> Result<Vec<T>, Failure
 fn write_png(out: &Path, w: u32, h: u32, image: &[Rgb888]) -> Result<(), Failure> {
     let io = |e: &dyn std::fmt::Display| Failure(1, format!("{}: {e}", out.display()));
     let target = output_target(out)?;
-    let size = tiny_skia::IntSize::from_wh(w, h).ok_or_else(|| io(&"image too large"))?;
-    let data = allocated(4 * w as usize * h as usize, 0u8, "PNG")?;
-    let mut pixmap =
-        tiny_skia::Pixmap::from_vec(data, size).ok_or_else(|| io(&"image too large"))?;
-    for (dst, p) in pixmap.pixels_mut().iter_mut().zip(image) {
-        *dst = tiny_skia::PremultipliedColorU8::from_rgba(p.r(), p.g(), p.b(), 255)
-            .expect("opaque colours are always valid");
-    }
-    let png = pixmap.encode_png().map_err(|e| io(&e))?;
+    let png = encode_png(w, h, image).map_err(|e| match e {
+        png::EncodingError::IoError(e) if e.kind() == std::io::ErrorKind::OutOfMemory => {
+            Failure(1, "not enough memory for the PNG".into())
+        }
+        e => io(&e),
+    })?;
     let name = target.file_name().ok_or_else(|| io(&"not a file name"))?;
     // Written beside the file it replaces and renamed over it: never a partial PNG under the
     // output's name, whatever stops the write.
