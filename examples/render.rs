@@ -225,9 +225,24 @@ fn render(
 
 /// The PNG of `image` (8-bit RGBA, opaque), encoded a row at a time: no copy of the image,
 /// and its bytes in memory reserved fallibly, so that short memory is an error.
-fn encode_png(w: u32, h: u32, image: &[Rgb888]) -> Result<Vec<u8>, png::EncodingError> {
-    let mut sink = Fallible(Vec::new());
-    let mut encoder = png::Encoder::new(&mut sink, w, h);
+fn encode_png(w: u32, h: u32, image: &[Rgb888]) -> Result<Vec<u8>, Failure> {
+    let mut sink = Fallible::default();
+    let encoded = encode_into(&mut sink, w, h, image);
+    match encoded {
+        Ok(()) => Ok(sink.bytes),
+        // The encoder passes the sink's error on as text: the sink's flag says what it was.
+        Err(_) if sink.short => Err(Failure(1, "not enough memory for the PNG".into())),
+        Err(e) => Err(Failure(1, format!("PNG encoding: {e}"))),
+    }
+}
+
+fn encode_into(
+    sink: &mut Fallible,
+    w: u32,
+    h: u32,
+    image: &[Rgb888],
+) -> Result<(), png::EncodingError> {
+    let mut encoder = png::Encoder::new(sink, w, h);
     encoder.set_color(png::ColorType::Rgba);
     encoder.set_depth(png::BitDepth::Eight);
     let mut writer = encoder.write_header()?;
@@ -239,19 +254,23 @@ fn encode_png(w: u32, h: u32, image: &[Rgb888]) -> Result<Vec<u8>, png::Encoding
         stream.write_all(&row)?;
     }
     stream.finish()?;
-    writer.finish()?;
-    Ok(sink.0)
+    writer.finish()
 }
 
-/// A `Vec` that reports a failed allocation as `ErrorKind::OutOfMemory` instead of aborting.
-struct Fallible(Vec<u8>);
+/// Bytes in a `Vec` whose failed allocation is an error (and `short`), not an abort.
+#[derive(Default)]
+struct Fallible {
+    bytes: Vec<u8>,
+    short: bool,
+}
 
 impl Write for Fallible {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.0
-            .try_reserve(buf.len())
-            .map_err(|_| std::io::Error::from(std::io::ErrorKind::OutOfMemory))?;
-        self.0.extend_from_slice(buf);
+        if self.bytes.try_reserve(buf.len()).is_err() {
+            self.short = true;
+            return Err(std::io::ErrorKind::OutOfMemory.into());
+        }
+        self.bytes.extend_from_slice(buf);
         Ok(buf.len())
     }
 
@@ -316,12 +335,7 @@ fn allocated<T: Clone>(n: usize, value: T, what: &str) -> Result<Vec<T>, Failure
 fn write_png(out: &Path, w: u32, h: u32, image: &[Rgb888]) -> Result<(), Failure> {
     let io = |e: &dyn std::fmt::Display| Failure(1, format!("{}: {e}", out.display()));
     let target = output_target(out)?;
-    let png = encode_png(w, h, image).map_err(|e| match e {
-        png::EncodingError::IoError(e) if e.kind() == std::io::ErrorKind::OutOfMemory => {
-            Failure(1, "not enough memory for the PNG".into())
-        }
-        e => io(&e),
-    })?;
+    let png = encode_png(w, h, image)?;
     let name = target.file_name().ok_or_else(|| io(&"not a file name"))?;
     // Written beside the file it replaces and renamed over it: never a partial PNG under the
     // output's name, whatever stops the write.
