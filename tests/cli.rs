@@ -114,11 +114,22 @@ fn the_demo_renders_without_a_scene() {
 
 /// Fails with `code`, one line on stderr naming `needle`, no PNG created, an existing one kept.
 fn fails(dir: &Path, args: &[&str], code: i32, needle: &str) {
+    fails_as(dir, args, code, needle, run);
+}
+
+/// `fails`, with the renderer started by `start` (given the arguments with `-o`).
+fn fails_as(
+    dir: &Path,
+    args: &[&str],
+    code: i32,
+    needle: &str,
+    start: impl FnOnce(&[&str]) -> Output,
+) {
     let out = dir.join("keep.png");
     std::fs::write(&out, b"precious").unwrap();
     let mut all: Vec<&str> = args.to_vec();
     all.extend(["-o", out.to_str().unwrap()]);
-    let o = run(&all);
+    let o = start(&all);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(code), "{args:?}: {err}");
     assert!(
@@ -377,34 +388,31 @@ fn the_largest_image_renders_and_one_more_is_an_error() {
 #[test]
 fn short_memory_is_an_error_not_an_abort() {
     let dir = scratch("memory");
-    let out = dir.join("keep.png");
-    std::fs::write(&out, b"precious").unwrap();
     let size = microray::camera::MAX_SIZE.to_string();
-    let limited = |limit_kb: &str| {
+    let args = ["tests/data/flat.toml", "--width", &size, "--height", &size];
+    let limited = |limit_kb: &str, args: &[&str]| {
         Command::new("sh")
             .args(["-c", &format!("ulimit -v {limit_kb} && exec \"$0\" \"$@\"")])
             .arg(renderer())
-            .args(["tests/data/flat.toml", "--width", &size, "--height", &size])
-            .args(["--threads", "1", "-o", out.to_str().unwrap()])
+            .args(["--threads", "1"])
+            .args(args)
             .output()
             .unwrap()
     };
     // The image (1 074 MB) does not fit in 1 GB.
-    let o = limited("1000000");
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("not enough memory for the image (1074 MB)"),
-        "{}",
-        stderr(&o)
-    );
-    assert_eq!(std::fs::read(&out).unwrap(), b"precious");
-    assert_eq!(
-        std::fs::read_dir(&dir).unwrap().count(),
+    fails_as(
+        &dir,
+        &args,
         1,
-        "files left behind"
+        "not enough memory for the image (1074 MB)",
+        |all| limited("1000000", all),
     );
     // In 1.3 GB the image, its PNG and the program fit.
-    let o = limited("1300000");
+    let out = dir.join("largest.png");
+    let o = limited(
+        "1300000",
+        &[&args[..], &["-o", out.to_str().unwrap()]].concat(),
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(
         png_size(&std::fs::read(&out).unwrap()),
