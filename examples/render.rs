@@ -87,7 +87,7 @@ fn run(args: Args) -> Result<(), Failure> {
     // trace tasks' own time) leaves its image out likewise: its front end makes the image with
     // the view. Magenta, so that a pixel no band wrote would show.
     let alloc = Instant::now();
-    let mut image = allocated(width as usize * height as usize, Rgb888::MAGENTA, "image")?;
+    let mut image = image_buffer(width as usize * height as usize)?;
     let alloc_ms = alloc.elapsed().as_secs_f64() * 1e3;
 
     let (ms, pool_ms) = render(&file.scene, &camera, options, threads, &mut image)?;
@@ -318,15 +318,14 @@ fn progress(done: &AtomicU32, finished: &AtomicBool, total: u32) {
     }
 }
 
-/// `n` copies of `value`, or exit 1 naming what did not fit where the memory is short (a plain
-/// `vec!` would abort the process instead).
-fn allocated<T: Clone>(n: usize, value: T, what: &str) -> Result<Vec<T>, Failure> {
+/// `n` magenta pixels, or exit 1 where the memory is short (a plain `vec!` would abort).
+fn image_buffer(n: usize) -> Result<Vec<Rgb888>, Failure> {
     let mut v = Vec::new();
     v.try_reserve_exact(n).map_err(|_| {
-        let mb = (n as f64 * std::mem::size_of::<T>() as f64 / 1e6).ceil();
-        Failure(1, format!("not enough memory for the {what} ({mb} MB)"))
+        let mb = (n as f64 * std::mem::size_of::<Rgb888>() as f64 / 1e6).ceil();
+        Failure(1, format!("not enough memory for the image ({mb} MB)"))
     })?;
-    v.resize(n, value);
+    v.resize(n, Rgb888::MAGENTA);
     Ok(v)
 }
 
