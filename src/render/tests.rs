@@ -79,15 +79,17 @@ mod sweep_tests {
             }
             w.index();
             assert_eq!(w.start.len(), (n / 4).max(1) + 1);
-            let probes = keys.iter().flat_map(|&k| {
-                [
-                    k,
-                    f32::from_bits(k.to_bits() + 1),
-                    f32::from_bits(k.to_bits() - 1),
-                ]
-            });
+            // Each key and its neighbours a step of the bits either side; below +0 that is the
+            // negative subnormal, where `bits - 1` would wrap (to a NaN, probed on its own).
+            let toward_zero = |k: f32| match k.to_bits() {
+                0 => -f32::from_bits(1),
+                b => f32::from_bits(b - 1),
+            };
+            let probes = keys
+                .iter()
+                .flat_map(|&k| [k, f32::from_bits(k.to_bits() + 1), toward_zero(k)]);
             let others = [-1e30, -2.0, 0.0, 0.5, 2.0, 1e9, 1e30, f32::MIN, f32::MAX];
-            for x in probes.chain(others) {
+            for x in probes.chain(others).chain([f32::NAN]) {
                 let exact = keys.partition_point(|&k| k < x);
                 assert_eq!(w.first(x), exact, "case {case}: key {x}");
                 let near = w.near_first(x);
