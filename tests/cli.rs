@@ -3,20 +3,52 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use std::sync::OnceLock;
 
-/// `cargo test` builds the examples beside the test binaries: target/<profile>/examples/render.
+/// The renderer, built from the current source with this test's profile (and target, features
+/// and environment), once per run. `cargo test` builds the examples too, but `cargo test --test
+/// cli` does not, and whatever binary an earlier build left would be tested in its place.
 fn renderer() -> PathBuf {
+    static BUILT: OnceLock<PathBuf> = OnceLock::new();
+    BUILT.get_or_init(build_renderer).clone()
+}
+
+fn build_renderer() -> PathBuf {
+    // This test runs from <target dir>[/<triple>]/<profile dir>/deps/; cargo marks the target
+    // dir with CACHEDIR.TAG.
     let exe = std::env::current_exe().unwrap();
-    let profile_dir = exe.parent().unwrap().parent().unwrap();
-    let bin = profile_dir
-        .join("examples")
-        .join(format!("render{}", std::env::consts::EXE_SUFFIX));
+    let profile_dir = exe.parent().and_then(Path::parent).unwrap();
+    let target_dir = profile_dir
+        .ancestors()
+        .skip(1)
+        .find(|d| d.join("CACHEDIR.TAG").is_file())
+        .unwrap_or_else(|| panic!("no target dir above {}", profile_dir.display()));
+    let profile = match profile_dir.file_name().and_then(|n| n.to_str()) {
+        Some("debug") => "dev",
+        Some(name) => name,
+        None => panic!("{}: no profile", profile_dir.display()),
+    };
+    let mut cargo = Command::new(std::env::var_os("CARGO").unwrap_or("cargo".into()));
+    cargo
+        .args(["build", "--example", "render", "--features", "scene-file"])
+        .args(["--profile", profile])
+        .arg("--manifest-path")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml"))
+        .arg("--target-dir")
+        .arg(target_dir);
+    let triple = profile_dir.parent().filter(|&d| d != target_dir);
+    if let Some(triple) = triple.and_then(Path::file_name) {
+        cargo.arg("--target").arg(triple);
+    }
+    let built = cargo.output().unwrap();
     assert!(
-        bin.exists(),
-        "{} not built (run through cargo test)",
-        bin.display()
+        built.status.success(),
+        "building the renderer failed:\n{}",
+        String::from_utf8_lossy(&built.stderr)
     );
-    bin
+    profile_dir
+        .join("examples")
+        .join(format!("render{}", std::env::consts::EXE_SUFFIX))
 }
 
 fn run(args: &[&str]) -> Output {
@@ -351,6 +383,10 @@ fn png_size(png: &[u8]) -> (u32, u32) {
 
 /// The largest image the renderer accepts renders; one pixel more is invalid input.
 #[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "a 16384² render takes minutes unoptimised: run with --release"
+)]
 fn the_largest_image_renders_and_one_more_is_an_error() {
     let dir = scratch("largest");
     let out = dir.join("largest.png");
@@ -386,6 +422,10 @@ fn the_largest_image_renders_and_one_more_is_an_error() {
 /// counts.
 #[cfg(target_os = "linux")]
 #[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "a 16384² render takes minutes unoptimised: run with --release"
+)]
 fn short_memory_is_an_error_not_an_abort() {
     let dir = scratch("memory");
     let size = microray::camera::MAX_SIZE.to_string();
