@@ -257,7 +257,7 @@ impl Plain<'_> {
                 (self.isect)(o, d, s)
             };
             if let Some(t) = t {
-                if best.map_or(true, |b| t < b.0) {
+                if best.is_none_or(|b| t < b.0) {
                     best = Some((t, j));
                 }
             }

@@ -12,6 +12,14 @@ use core::fmt;
 /// scene.add_sphere(ball, Material::default()).unwrap();
 /// assert_eq!(scene.add_sphere(ball, Material::default()), Err(Error::TooManySpheres));
 /// assert_eq!(Error::TooManySpheres.to_string(), "more spheres than the scene's capacity");
+///
+/// // A `core::error::Error`: `?` takes it into a `Box<dyn std::error::Error>`.
+/// fn tiny() -> Result<Scene<1, 0>, Box<dyn std::error::Error>> {
+///     let mut scene = Scene::new();
+///     scene.add_sphere(Sphere::new(Vec3::ZERO, -1.0), Material::default())?;
+///     Ok(scene)
+/// }
+/// assert_eq!(tiny().unwrap_err().to_string(), "radius must be finite and > 0");
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
@@ -68,5 +76,6 @@ impl fmt::Display for Error {
     }
 }
 
-#[cfg(feature = "std")]
-impl std::error::Error for Error {}
+/// In every build, `no_std` included: `?` turns an [`Error`] into a `Box<dyn Error>` or an
+/// error type of the caller's.
+impl core::error::Error for Error {}

@@ -76,7 +76,7 @@ fn random_scene<const S: usize>(seed: u64) -> (Box<Scene<S, 4>>, Camera, RenderO
         .set_ambient(Color::splat(rng.range_f32(0.0, 0.2)))
         .unwrap();
     scene.set_background(rng.color()).unwrap();
-    scene.set_shadows(rng.next() % 4 != 0);
+    scene.set_shadows(!rng.next().is_multiple_of(4));
     scene.set_max_depth((rng.next() % 3) as u8).unwrap();
     let eye = rng.vec(6.0);
     let look = rng.vec(2.0);
@@ -104,12 +104,12 @@ fn random_scene<const S: usize>(seed: u64) -> (Box<Scene<S, 4>>, Camera, RenderO
             3 => (rng.vec(1.0), rng.range_f32(20.0, 60.0)),
             _ => (rng.vec(5.0), rng.range_f32(0.1, 1.5)),
         };
-        let specular = if rng.next() % 2 == 0 {
+        let specular = if rng.next().is_multiple_of(2) {
             Color::ZERO
         } else {
             rng.color()
         };
-        let mirror = if rng.next() % 4 == 0 {
+        let mirror = if rng.next().is_multiple_of(4) {
             rng.color() * 0.8
         } else {
             Color::ZERO
@@ -123,7 +123,7 @@ fn random_scene<const S: usize>(seed: u64) -> (Box<Scene<S, 4>>, Camera, RenderO
         scene.add_sphere(Sphere::new(c, r), m).unwrap();
     }
     for _ in 0..(rng.next() % 5) {
-        let light = if rng.next() % 3 == 0 {
+        let light = if rng.next().is_multiple_of(3) {
             Light::Directional {
                 direction: rng.vec(1.0) + Vec3::new(0.0, -0.3, 0.0),
                 intensity: rng.color(),
@@ -136,7 +136,7 @@ fn random_scene<const S: usize>(seed: u64) -> (Box<Scene<S, 4>>, Camera, RenderO
         };
         let _ = scene.add_light(light);
     }
-    let up = if rng.next() % 2 == 0 {
+    let up = if rng.next().is_multiple_of(2) {
         Vec3::new(0.0, 1.0, 0.0)
     } else {
         rng.vec(1.0)
@@ -146,7 +146,7 @@ fn random_scene<const S: usize>(seed: u64) -> (Box<Scene<S, 4>>, Camera, RenderO
         Ok(c) => c,
         Err(_) => Camera::new(eye, look, Vec3::new(0.3, 1.0, 0.1), 60.0, w, h).unwrap(),
     };
-    let samples = if rng.next() % 5 == 0 {
+    let samples = if rng.next().is_multiple_of(5) {
         2 + (rng.next() % 2) as u8
     } else {
         1
@@ -333,7 +333,7 @@ fn screen_boxes_hold_every_hit() {
     let (mut hits, mut tested) = (0u64, 0u64);
     for seed in 0..seeds {
         let mut rng = Rng(seed.wrapping_mul(0xD1B5_4A32_D192_ED03) | 1);
-        let shift = if rng.next() % 4 == 0 {
+        let shift = if rng.next().is_multiple_of(4) {
             rng.vec(1e4)
         } else {
             Vec3::ZERO

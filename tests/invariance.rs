@@ -42,7 +42,7 @@ fn random_scene(seed: u64) -> Random {
             g.grid(0.1, 0.9),
             g.grid(0.0, 0.8),
             [8, 32, 128, 1000][(g.next() % 4) as usize],
-            if g.next() % 3 == 0 { 0.5 } else { 0.0 },
+            if g.next().is_multiple_of(3) { 0.5 } else { 0.0 },
         );
         spheres.push((c, r, mat));
     }

@@ -67,7 +67,7 @@ fn mutated_scene_files_never_panic() {
             };
             let token = TOKENS[(g.next() % TOKENS.len() as u64) as usize];
             let (key, value) = lines[k].split_at(eq + 1);
-            let value = if g.next() % 2 == 0 {
+            let value = if g.next().is_multiple_of(2) {
                 token.to_string()
             } else {
                 value.replacen(|c: char| c.is_ascii_digit(), token, 1)

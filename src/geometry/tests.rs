@@ -339,13 +339,17 @@ mod lane_tests {
                 let p = [0, 1, 2].map(|i| m[i] + u[i] * (r + h));
                 // A direction whose closest approach to the centre is r (1 ± δ), or any.
                 let mut close = f64::INFINITY;
-                let d = if g.next() % 4 != 0 {
+                let d = if !g.next().is_multiple_of(4) {
                     let w = unit(g);
                     let wu = w[0] * u[0] + w[1] * u[1] + w[2] * u[2];
                     let q = [0, 1, 2].map(|i| w[i] - u[i] * wu);
                     let ql = libm::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
                     let delta = libm::pow(10.0, -12.0 + 9.0 * f64::from(g.unit()));
-                    close = if g.next() % 2 == 0 { delta } else { -delta };
+                    close = if g.next().is_multiple_of(2) {
+                        delta
+                    } else {
+                        -delta
+                    };
                     let rd = r * (1.0 + close);
                     let dist = r + h;
                     let t = rd * dist / libm::sqrt(dist * dist - rd * rd);

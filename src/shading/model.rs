@@ -176,7 +176,7 @@ mod tests {
                 } else {
                     g.vec(2.0) + Vec3::splat(1.0)
                 },
-                shininess: if case % 3 == 0 {
+                shininess: if case.is_multiple_of(3) {
                     1.0 + 99.0 * g.unit()
                 } else {
                     [1.0, 8.0, 32.0, 5000.0][k]
@@ -218,7 +218,8 @@ mod tests {
             let scale = [1e-12f32, 1.0, 1e3, 1e12][case % 4];
             let eye = g.vec(30.0 * scale);
             // Shadowed by a hash of the light and the vector to it: any answer, the same for both.
-            let shadow = |i: usize, v: Vec3| (v.x.to_bits() ^ v.y.to_bits() ^ i as u32) % 3 == 0;
+            let shadow =
+                |i: usize, v: Vec3| (v.x.to_bits() ^ v.y.to_bits() ^ i as u32).is_multiple_of(3);
             let mut four = [None; 4];
             for slot in four.iter_mut() {
                 let s = &scene.spheres()[case % 4];

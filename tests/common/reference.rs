@@ -207,7 +207,7 @@ impl Reference {
                     }
                 }
             };
-            if t > 0.0 && best.map_or(true, |b| t < b.0) {
+            if t > 0.0 && best.is_none_or(|b| t < b.0) {
                 best = Some((t, i, add(f, mul(d, t))));
             }
         }
