@@ -12,7 +12,7 @@
 //! loop (`Frame::shade_stored`), and no second primary test for an eye outside a sphere: the
 //! same operations either way (`src/render/config.rs`: `INLINE_SHADING`, `OUTSIDE_TEST`).
 fn main() {
-    println!("cargo::rustc-check-cfg=cfg(lanes, no_dirs, size_opt)");
+    println!("cargo::rustc-check-cfg=cfg(lanes, no_dirs, size_opt, docsrs)");
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-env-changed=MICRORAY_HOST_AS");
     let env = |k: &str| std::env::var(k).unwrap_or_default();

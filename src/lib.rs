@@ -12,6 +12,8 @@
 //! (embedded-graphics displays). With the `scene-file` feature (std), [`scene_file`] reads the
 //! TOML scene format. ARCHITECTURE.md in the repository says where each part lives.
 //!
+//! ## On a microcontroller: a scene in code, a row at a time
+//!
 //! ```
 //! use embedded_graphics::pixelcolor::Rgb888;
 //! use microray::{Camera, Color, Frame, FrameStorage, Light, Material, RenderOptions, Scene, Sphere, Vec3};
@@ -35,7 +37,74 @@
 //! }
 //! # Ok::<(), microray::Error>(())
 //! ```
+//!
+//! ## On a desktop: a scene file in, an image out
+//!
+//! With the `scene-file` feature; the repository's `render` example does this on all cores
+//! and writes a PNG.
+//!
+//! ```
+//! # #[cfg(feature = "scene-file")]
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! use embedded_graphics::pixelcolor::Rgb888;
+//! use microray::scene_file::{self, Desktop};
+//! use microray::{Frame, FrameStorage};
+//!
+//! // Or scene_file::load("scene.toml"). Every error names the field (and line) at fault.
+//! let file: Desktop = scene_file::parse(
+//!     r#"
+//!     [camera]
+//!     eye = [0, 1, 6]
+//!     look_at = [0, 0.5, 0]
+//!     [render]
+//!     width = 64
+//!     height = 48
+//!     [[sphere]]
+//!     center = [0, 0.5, 0]
+//!     radius = 1.0
+//!     [[light]]
+//!     kind = "point"
+//!     position = [3, 5, 4]
+//!     "#,
+//! )?;
+//! // The desktop capacity (1024 spheres, 32 lights) takes 0.75 MB of tables: on the heap.
+//! let mut storage = Box::new(FrameStorage::new());
+//! let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage)?;
+//! let mut image = vec![Rgb888::new(0, 0, 0); (file.width * file.height) as usize];
+//! frame.render(&mut image)?; // or a band of rows per thread: `render_rows`
+//! // `image` holds the rows top to bottom, ready for a PNG encoder.
+//! # assert!(image.iter().any(|p| *p != image[0]));
+//! # Ok(())
+//! # }
+//! # #[cfg(not(feature = "scene-file"))]
+//! # fn main() {}
+//! ```
+//!
+//! ## Features
+//!
+//! None is on by default: the crate is `no_std` and allocates nothing.
+//!
+//! - `scene-file`: [`scene_file`], the TOML scene reader; turns on `std` and adds `serde` and
+//!   `toml`.
+//! - `std`: links the standard library, which the scene reader needs. Nothing else depends
+//!   on it: [`Error`] is a `core::error::Error` in every build.
+//!
+//! ## Build-time cfgs
+//!
+//! `build.rs` sets these from the target and the profile, never by hand; none changes a
+//! pixel (every target computes the same bits) or the API.
+//!
+//! - `lanes` on x86-64 and on AArch64 with NEON: primary rays, hit records and shading four
+//!   pixels at a time in vector registers (`wide`'s `f32x4`).
+//! - `no_dirs` on soft-float Arm (Cortex-M0): spans keep no view directions.
+//! - `size_opt` at opt-level `"s"` or `"z"`: the scalar path keeps its shading out of line.
+//!
+//! `MICRORAY_HOST_AS=m4f` (or `m0`) in the environment builds a host with that board's render
+//! path, so that the host's tests check it.
+//!
+//! The oldest Rust that builds the crate is 1.87 (`rust-version`).
 #![no_std]
+#![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
 // `!(x > 0.0)` is deliberate throughout: NaN must fail every validity check.
@@ -53,6 +122,7 @@ pub mod raster;
 pub mod render;
 pub mod scene;
 #[cfg(feature = "scene-file")]
+#[cfg_attr(docsrs, doc(cfg(feature = "scene-file")))]
 pub mod scene_file;
 pub mod shading;
 pub(crate) mod simd;
