@@ -26,7 +26,7 @@ const DEMO: &str = include_str!("scenes/demo.toml");
 struct Args {
     /// The scene (TOML); the built-in demo scene when left out.
     scene: Option<PathBuf>,
-    /// Where to write the PNG.
+    /// Where to write the PNG (.png, or no extension for a device).
     #[arg(short, long, default_value = "render.png")]
     output: PathBuf,
     /// Image width, overriding the scene's (1..=16384).
@@ -79,6 +79,7 @@ fn run(args: Args) -> Result<(), Failure> {
         Some(n) => n,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
+    check_format(&args.output)?;
     output_target(&args.output)?;
 
     // The image the bands are rendered into, allocated and written before the clock starts:
@@ -223,7 +224,7 @@ fn render(
     })
 }
 
-/// The PNG of `image` (8-bit RGBA, opaque), encoded a row at a time: no copy of the image,
+/// The PNG of `image` (8-bit RGB), encoded a row at a time: no copy of the image,
 /// and its bytes in memory reserved fallibly, so that short memory is an error.
 fn encode_png(w: u32, h: u32, image: &[Rgb888]) -> Result<Vec<u8>, Failure> {
     let mut sink = Fallible::default();
@@ -243,14 +244,17 @@ fn encode_into(
     image: &[Rgb888],
 ) -> Result<(), png::EncodingError> {
     let mut encoder = png::Encoder::new(sink, w, h);
-    encoder.set_color(png::ColorType::Rgba);
+    // RGB, opaque: an alpha channel of 255s would only add bytes to filter and compress.
+    encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
+    // The fast level: ~10x the default's speed for ~1.2-1.4x its size on rendered scenes.
+    encoder.set_compression(png::Compression::Fast);
     let mut writer = encoder.write_header()?;
     let mut stream = writer.stream_writer()?;
-    let mut row = Vec::with_capacity(4 * w as usize);
+    let mut row = Vec::with_capacity(3 * w as usize);
     for pixels in image.chunks_exact(w as usize) {
         row.clear();
-        row.extend(pixels.iter().flat_map(|p| [p.r(), p.g(), p.b(), 255]));
+        row.extend(pixels.iter().flat_map(|p| [p.r(), p.g(), p.b()]));
         stream.write_all(&row)?;
     }
     stream.finish()?;
@@ -360,6 +364,22 @@ fn write_png(out: &Path, w: u32, h: u32, image: &[Rgb888]) -> Result<(), Failure
         return Err(io(&e));
     }
     Ok(())
+}
+
+/// The renderer writes PNG: an output named for another format is invalid input, not a PNG
+/// under a misleading name. A path without an extension (a device such as `/dev/stdout`) gets
+/// PNG too.
+fn check_format(out: &Path) -> Result<(), Failure> {
+    match out.extension().map(|e| e.to_string_lossy()) {
+        Some(ext) if !ext.eq_ignore_ascii_case("png") => Err(Failure(
+            2,
+            format!(
+                "{}: cannot write .{ext} images (the output is PNG: name it .png)",
+                out.display()
+            ),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// The file that writing to `out` replaces, as a plain write would treat it: a symlink's

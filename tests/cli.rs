@@ -246,6 +246,55 @@ fn invalid_input_exits_2_and_writes_nothing() {
     assert_eq!(single.trim_end().lines().count(), 1, "{single}");
 }
 
+/// The renderer writes PNG: an output named for another format is invalid input that names
+/// the extension, found before rendering, with nothing written and an existing file kept.
+/// `.PNG` and a name without an extension (as a device has) get PNG.
+#[test]
+fn an_output_of_another_format_is_an_error() {
+    let dir = scratch("format");
+    for (name, ext) in [
+        ("out.jpg", ".jpg"),
+        ("out.png.gif", ".gif"),
+        ("a.b/out.webp", ".webp"),
+    ] {
+        let out = dir.join(name);
+        std::fs::create_dir_all(out.parent().unwrap()).unwrap();
+        std::fs::write(&out, b"precious").unwrap();
+        let o = run(&["tests/data/flat.toml", "-o", out.to_str().unwrap()]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(
+            err.lines().count() == 1 && err.contains(&format!("cannot write {ext} images")),
+            "{name}: {err}"
+        );
+        assert_eq!(std::fs::read(&out).unwrap(), b"precious", "{name}");
+        std::fs::remove_file(&out).unwrap();
+    }
+    let left: Vec<_> = walk(&dir);
+    assert!(left.is_empty(), "files left behind: {left:?}");
+    for name in ["OUT.PNG", "out"] {
+        let out = dir.join(name);
+        let o = run(&["tests/data/flat.toml", "-o", out.to_str().unwrap()]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let png = std::fs::read(&out).unwrap();
+        assert_eq!(png_size(&png), (160, 120), "{name}");
+    }
+}
+
+/// Every file under `dir`, directories left out.
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut files = vec![];
+    for e in std::fs::read_dir(dir).unwrap() {
+        let path = e.unwrap().path();
+        if path.is_dir() {
+            files.extend(walk(&path));
+        } else {
+            files.push(path);
+        }
+    }
+    files
+}
+
 #[test]
 fn io_failures_exit_1() {
     let dir = scratch("io");
