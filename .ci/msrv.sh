@@ -28,6 +28,7 @@ microray = { path = "$root" }
 
 [features]
 scene-file = ["microray/scene-file"]
+defmt = ["microray/defmt"]
 
 [workspace]
 TOML
@@ -42,4 +43,5 @@ for target in thumbv7em-none-eabihf thumbv6m-none-eabi; do
   build cargo "+$msrv" build --release --target "$target"
   build env CARGO_PROFILE_RELEASE_OPT_LEVEL=s cargo "+$msrv" build --release --target "$target"
 done
+build cargo "+$msrv" build --release --target thumbv7em-none-eabihf --features defmt
 echo "microray builds with Rust $msrv (its rust-version)"

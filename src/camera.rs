@@ -20,6 +20,7 @@ pub const MAX_SIZE: u32 = 16384;
 /// # Ok::<(), microray::Error>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Camera {
     eye: Vec3,
     u: Vec3,

@@ -22,6 +22,7 @@ use core::fmt;
 /// assert_eq!(tiny().unwrap_err().to_string(), "radius must be finite and > 0");
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Error {
     /// More spheres than the scene's capacity `S`.

@@ -88,6 +88,8 @@
 //!   `toml`.
 //! - `std`: links the standard library, which the scene reader needs. Nothing else depends
 //!   on it: [`Error`] is a `core::error::Error` in every build.
+//! - `defmt`: `defmt::Format` for [`Error`] and the small `Copy` types ([`Vec3`], [`Sphere`],
+//!   [`Material`], [`Light`], [`Camera`], [`RenderOptions`], …), to log them from firmware.
 //!
 //! ## Build-time cfgs
 //!

@@ -43,6 +43,7 @@ pub(crate) const ETA: f32 = 4.0e-6;
 /// assert!(PixelBox { i0: 0, i1: 3, j0: 2, j1: 2 }.contains(3, 2));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PixelBox {
     /// First column.
     pub i0: u16,

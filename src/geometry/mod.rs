@@ -69,6 +69,7 @@ use roots::*;
 /// assert_eq!(ray.at(1.5), Vec3::new(0.0, 0.0, -3.0));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Ray {
     /// Where the ray starts.
     pub origin: Vec3,
@@ -110,6 +111,7 @@ impl Ray {
 /// assert_eq!(s.radius, 1000.0);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Sphere {
     /// Its centre.
     pub center: Vec3,

@@ -19,6 +19,7 @@ use super::*;
 /// assert!((t - 1.0).abs() < 1e-6);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Prepared {
     /// `o − m`, rounded to f32.
     pub f: Vec3,

@@ -24,6 +24,7 @@ pub(crate) use ieee::{Byte, Ieee, Ieee3, IeeeCmp};
 /// assert_eq!(a - a, Vec3::ZERO);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Vec3 {
     /// x component (red, for colours).
     pub x: f32,

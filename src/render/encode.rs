@@ -11,6 +11,7 @@ use crate::math::Byte;
 /// assert_eq!(encode_channel(0.5, Encoding::Srgb), 188);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Encoding {
     /// The channel value as it is.
     #[default]

@@ -81,6 +81,7 @@ use sweep::*;
 /// # let _ = opts;
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RenderOptions {
     /// Samples per pixel along each axis (1..=16): `samples²` rays per pixel.
     pub samples: u8,

@@ -15,6 +15,7 @@ use crate::math::{Ieee, Ieee3, IeeeCmp};
 /// # Ok::<(), microray::Error>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Hit {
     /// The ray parameter of the hit.
     pub t: f32,

@@ -12,6 +12,7 @@ use super::*;
 /// assert_ne!(sun, bulb);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Light {
     /// Light from a point; no fall-off with distance.
     Point {

@@ -15,6 +15,7 @@ use super::*;
 /// assert_eq!(red_plastic.mirror, Color::ZERO);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Material {
     /// Lambert (and ambient) reflectance `k_d`.
     pub diffuse: Color,
