@@ -9,8 +9,9 @@
 //! The layers, each one module: [`math`] → `simd` (the vector lanes, hosts only) →
 //! [`geometry`] (rays, spheres, intersection) → [`scene`] → [`camera`] and [`raster`] (screen
 //! bounds) → [`shading`] (the shading model) → [`render`] (frames, bands, pixels) → [`output`]
-//! (embedded-graphics displays). With the `scene-file` feature (std), [`scene_file`] reads the
-//! TOML scene format. ARCHITECTURE.md in the repository says where each part lives.
+//! (embedded-graphics displays). With the `scene-file` feature (std),
+//! [`scene_file`](scene_file/index.html) reads the TOML scene format. ARCHITECTURE.md in the
+//! repository says where each part lives.
 //!
 //! ## On a microcontroller: a scene in code, a row at a time
 //!
@@ -84,8 +85,9 @@
 //!
 //! None is on by default: the crate is `no_std` and allocates nothing.
 //!
-//! - `scene-file`: [`scene_file`], the TOML scene reader; turns on `std` and adds `serde` and
-//!   `toml`.
+// Plain links to `scene_file`: without the feature there is no module for rustdoc to resolve.
+//! - `scene-file`: [`scene_file`](scene_file/index.html), the TOML scene reader; turns on
+//!   `std` and adds `serde` and `toml`.
 //! - `std`: links the standard library, which the scene reader needs. Nothing else depends
 //!   on it: [`Error`] is a `core::error::Error` in every build.
 //! - `defmt`: `defmt::Format` for [`Error`] and the small `Copy` types ([`Vec3`], [`Sphere`],
