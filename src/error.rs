@@ -33,11 +33,15 @@ pub enum Error {
     NotFinite,
     /// A radius that is not finite and > 0.
     InvalidRadius,
-    /// A colour (diffuse, specular, mirror, intensity, ambient, background) with a negative,
-    /// NaN or infinite channel.
+    /// A colour (diffuse, specular, mirror, refraction, intensity, ambient, background) with a
+    /// negative, NaN or infinite channel.
     InvalidColor,
     /// A shininess that is not finite and > 0.
     InvalidShininess,
+    /// An index of refraction that is not finite and > 0.
+    InvalidIor,
+    /// A material with refraction, in a build without the `refraction` feature.
+    RefractionNotEnabled,
     /// A directional light whose direction is the zero vector.
     ZeroDirection,
     /// The camera's eye and look-at points coincide.
@@ -50,7 +54,7 @@ pub enum Error {
     InvalidSize,
     /// Samples per axis outside 1..=16.
     InvalidSamples,
-    /// A reflection depth above 16.
+    /// A reflection and refraction depth above 16.
     InvalidMaxDepth,
     /// A pixel buffer whose length is not a whole number of rows inside the image.
     BufferSize,
@@ -65,6 +69,8 @@ impl fmt::Display for Error {
             Error::InvalidRadius => "radius must be finite and > 0",
             Error::InvalidColor => "colour channels must be finite and >= 0",
             Error::InvalidShininess => "shininess must be finite and > 0",
+            Error::InvalidIor => "ior must be finite and > 0",
+            Error::RefractionNotEnabled => "refraction needs microray's `refraction` feature",
             Error::ZeroDirection => "light direction must not be zero",
             Error::EyeAtLookAt => "eye and look_at must differ",
             Error::UpParallelToView => "up must not be zero or parallel to the view direction",

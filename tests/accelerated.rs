@@ -119,6 +119,14 @@ fn random_scene<const S: usize>(seed: u64) -> (Box<Scene<S, 4>>, Camera, RenderO
             specular,
             shininess: rng.range_f32(1.0, 200.0),
             mirror,
+            // Glass (its rays are shaded by the scalar path on every target), with an index
+            // below 1 at times, which totally reflects rays entering it.
+            refraction: if rng.next().is_multiple_of(5) {
+                rng.color()
+            } else {
+                Color::ZERO
+            },
+            ior: rng.range_f32(0.6, 2.5),
         };
         scene.add_sphere(Sphere::new(c, r), m).unwrap();
     }

@@ -54,11 +54,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         });
         // Encoded on each path: a colour merged from the bounces' out-of-line return would go
         // through memory.
-        if !scene.has_mirrors() {
+        if !scene.has_secondary() {
             return self.encode(colour);
         }
         // A copy, as for `shadow_test`: only the bounces put the record in memory.
-        self.encode(crate::shading::follow_mirror(
+        self.encode(crate::shading::follow_secondary(
             scene,
             ray,
             &{ h },
@@ -71,8 +71,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         ))
     }
 
-    /// Shades a primary hit (and its mirror bounces): `lists`, when given, holds per light
-    /// the spheres that can block shadow rays from this primary hit; mirror hits and missing
+    /// Shades a primary hit (and its secondary rays): `lists`, when given, holds per light
+    /// the spheres that can block shadow rays from this primary hit; secondary hits and missing
     /// `lists` test every sphere.
     #[inline]
     pub(super) fn shade_from(

@@ -1,8 +1,8 @@
-//! [`Material`]: how a sphere reflects light.
+//! [`Material`]: how a sphere reflects and transmits light.
 
 use super::*;
 
-/// How a sphere reflects light.
+/// How a sphere reflects and transmits light.
 ///
 /// ```
 /// use microray::{Color, Material};
@@ -13,6 +13,7 @@ use super::*;
 ///     ..Material::default()
 /// };
 /// assert_eq!(red_plastic.mirror, Color::ZERO);
+/// assert_eq!((red_plastic.refraction, red_plastic.ior), (Color::ZERO, 1.5));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -25,16 +26,26 @@ pub struct Material {
     pub shininess: f32,
     /// Mirror reflectance `k_m`.
     pub mirror: Color,
+    /// Transmittance `k_t`: the share of the refracted ray's colour that the hit adds (see
+    /// [`refract`](crate::shading::refract)). A scene accepts a non-zero value only with the
+    /// crate's `refraction` feature.
+    pub refraction: Color,
+    /// Index of refraction of the sphere's inside (finite and > 0); outside every sphere is
+    /// air, of index 1. Used only where `refraction` is not zero.
+    pub ior: f32,
 }
 
 impl Default for Material {
-    /// White diffuse, no highlight, no mirror, shininess 32 (the scene format's defaults).
+    /// White diffuse, no highlight, no mirror, no refraction, shininess 32, index of
+    /// refraction 1.5 (the scene format's defaults).
     fn default() -> Self {
         Material {
             diffuse: Color::ONE,
             specular: Color::ZERO,
             shininess: 32.0,
             mirror: Color::ZERO,
+            refraction: Color::ZERO,
+            ior: 1.5,
         }
     }
 }

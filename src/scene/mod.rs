@@ -38,9 +38,9 @@ pub struct Scene<const S: usize, const L: usize> {
     background: Color,
     shadows: bool,
     max_depth: u8,
-    /// Whether any sphere is a mirror: most scenes have none, and their hits skip the
-    /// per-sphere test.
-    mirrors: bool,
+    /// Whether any sphere sends secondary rays (a mirror, or glass): most scenes have none,
+    /// and their hits skip the per-sphere test.
+    secondary: bool,
 }
 
 impl<const S: usize, const L: usize> Default for Scene<S, L> {
@@ -56,7 +56,7 @@ struct Derived {
     /// [`near2`] of the material.
     near2: f32,
     /// Bit 0: `k_s ≠ 0` (the hit needs the view vector and a highlight per light); bit 1:
-    /// `k_m ≠ 0` (the hit sends a mirror ray).
+    /// `k_m ≠ 0` or `k_t ≠ 0` (the hit sends a mirror or a refracted ray).
     flags: u8,
 }
 
@@ -67,8 +67,11 @@ struct Derived {
 /// The f32 offset is off by ~4ε·distance, which turns the normal by ~4ε·distance/radius: a
 /// diffuse term moves by that much, a highlight of shininess s by s times that. 2048/(1 + s)
 /// radii keep either under 1/8 of a level (for a light of intensity 1); never fewer than 16
-/// radii, and 16 for mirrors, whose rays go on and bounce.
+/// radii, and 16 for mirrors and glass, whose rays go on.
 fn near2(m: &Material) -> f32 {
+    if cfg!(feature = "refraction") && m.refraction != Color::ZERO {
+        return 1.0;
+    }
     let k = if m.mirror != Color::ZERO {
         16.0
     } else if m.specular == Color::ZERO {
@@ -93,6 +96,9 @@ fn check_color(c: Color) -> Result<Color, Error> {
         Err(Error::InvalidColor)
     }
 }
+
+/// The largest [`Scene::set_max_depth`].
+pub(crate) const MAX_DEPTH: u8 = 16;
 
 fn check_point(p: Vec3) -> Result<Vec3, Error> {
     if p.is_finite() {
@@ -120,18 +126,24 @@ impl<const S: usize, const L: usize> Scene<S, L> {
             background: Color::ZERO,
             shadows: true,
             max_depth: 3,
-            mirrors: false,
+            secondary: false,
         }
     }
 
     /// Adds a sphere and returns its index; rejects invalid values and overflow of `S`.
     ///
     /// ```
-    /// # use microray::{Error, Material, Scene, Sphere, Vec3};
+    /// # use microray::{Color, Error, Material, Scene, Sphere, Vec3};
     /// let mut scene: Scene<2, 0> = Scene::new();
     /// assert_eq!(scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default()), Ok(0));
     /// let flat = Sphere::new(Vec3::ZERO, 0.0);
     /// assert_eq!(scene.add_sphere(flat, Material::default()), Err(Error::InvalidRadius));
+    /// let glass = Material { refraction: Color::splat(0.9), ior: 0.0, ..Material::default() };
+    /// let ball = Sphere::new(Vec3::ZERO, 1.0);
+    /// # #[cfg(feature = "refraction")]
+    /// assert_eq!(scene.add_sphere(ball, glass), Err(Error::InvalidIor));
+    /// # #[cfg(not(feature = "refraction"))]
+    /// # assert_eq!(scene.add_sphere(ball, glass), Err(Error::RefractionNotEnabled));
     /// ```
     pub fn add_sphere(&mut self, sphere: Sphere, material: Material) -> Result<usize, Error> {
         check_point(sphere.center)?;
@@ -144,16 +156,28 @@ impl<const S: usize, const L: usize> Scene<S, L> {
         if !(material.shininess > 0.0 && material.shininess.is_finite()) {
             return Err(Error::InvalidShininess);
         }
+        let refraction = !material.refraction.is_zero();
+        if refraction && !cfg!(feature = "refraction") {
+            return Err(Error::RefractionNotEnabled);
+        }
+        #[cfg(feature = "refraction")]
+        {
+            check_color(material.refraction)?;
+            if !(material.ior > 0.0 && material.ior.is_finite()) {
+                return Err(Error::InvalidIor);
+            }
+        }
         self.spheres
             .push(sphere)
             .map_err(|_| Error::TooManySpheres)?;
         // The vectors have capacity S and grow together, so these pushes cannot fail.
         let _ = self.materials.push(material);
-        let (specular, mirror) = (!material.specular.is_zero(), !material.mirror.is_zero());
-        self.mirrors |= mirror;
+        let specular = !material.specular.is_zero();
+        let secondary = !material.mirror.is_zero() || refraction;
+        self.secondary |= secondary;
         let _ = self.derived.push(Derived {
             near2: near2(&material),
-            flags: specular as u8 | (mirror as u8) << 1,
+            flags: specular as u8 | (secondary as u8) << 1,
         });
         Ok(self.spheres.len() - 1)
     }
@@ -215,7 +239,8 @@ impl<const S: usize, const L: usize> Scene<S, L> {
         self.shadows = on;
     }
 
-    /// Sets how many mirror bounces a ray may take (0..=16; primary rays have depth 0).
+    /// Sets how many mirror and refraction bounces a ray may take (0..=16; primary rays have
+    /// depth 0).
     ///
     /// ```
     /// # use microray::{Error, Scene};
@@ -225,7 +250,7 @@ impl<const S: usize, const L: usize> Scene<S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn set_max_depth(&mut self, depth: u8) -> Result<(), Error> {
-        if depth > 16 {
+        if depth > MAX_DEPTH {
             return Err(Error::InvalidMaxDepth);
         }
         self.max_depth = depth;
@@ -265,16 +290,16 @@ impl<const S: usize, const L: usize> Scene<S, L> {
         self.derived.get(i).is_some_and(|d| d.flags & 1 != 0)
     }
 
-    /// Whether sphere `i`'s material is a mirror (`k_m ≠ 0`).
+    /// Whether sphere `i`'s hits send secondary rays (`k_m ≠ 0` or `k_t ≠ 0`).
     #[inline]
-    pub(crate) fn has_mirror(&self, i: usize) -> bool {
+    pub(crate) fn sends_secondary(&self, i: usize) -> bool {
         self.derived.get(i).is_some_and(|d| d.flags & 2 != 0)
     }
 
-    /// Whether any sphere is a mirror.
+    /// Whether any sphere sends secondary rays.
     #[inline]
-    pub(crate) fn has_mirrors(&self) -> bool {
-        self.mirrors
+    pub(crate) fn has_secondary(&self) -> bool {
+        self.secondary
     }
 
     /// The lights (directional ones with unit direction).
@@ -317,7 +342,7 @@ impl<const S: usize, const L: usize> Scene<S, L> {
         self.shadows
     }
 
-    /// The maximum mirror depth.
+    /// The maximum depth of mirror and refracted rays.
     ///
     /// ```
     /// # use microray::Scene;

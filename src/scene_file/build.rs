@@ -236,11 +236,17 @@ impl Builder<'_> {
                 Some(v) => self.num(v, &f("shininess"))?,
                 None => 32.0,
             };
+            let ior = match &r.ior {
+                Some(v) => self.num(v, &f("ior"))?,
+                None => 1.5,
+            };
             let material = Material {
                 diffuse: self.color(r.diffuse.as_ref(), 1.0, &f("diffuse"))?,
                 specular: self.color(r.specular.as_ref(), 0.0, &f("specular"))?,
                 shininess,
                 mirror: self.color(r.mirror.as_ref(), 0.0, &f("mirror"))?,
+                refraction: self.color(r.refraction.as_ref(), 0.0, &f("refraction"))?,
+                ior,
             };
             scene
                 .add_sphere(Sphere::new(center, radius), material)
@@ -251,6 +257,7 @@ impl Builder<'_> {
                             r.shininess.as_ref().map_or(s.span(), |v| v.span()),
                             "shininess",
                         ),
+                        Error::InvalidIor => (r.ior.as_ref().map_or(s.span(), |v| v.span()), "ior"),
                         _ => (s.span(), ""),
                     };
                     self.err(span, f(name).trim_end_matches('.'), e)

@@ -9,8 +9,8 @@
 //! width = 320         # ambient = 0, shadows = true, max_depth = 3 (0..=16),
 //! height = 240        # samples = 1 (1..=16, per axis), encoding = "linear" | "srgb"
 //! [[sphere]]          # center, radius (> 0) required; diffuse = 1, specular = 0,
-//! center = [0, 0, 0]  # shininess = 32 (> 0), mirror = 0
-//! radius = 1.0
+//! center = [0, 0, 0]  # shininess = 32 (> 0), mirror = 0, refraction = 0,
+//! radius = 1.0        # ior = 1.5 (> 0)
 //! diffuse = [0.8, 0.2, 0.2]
 //! [[light]]           # kind = "point" + position, or kind = "directional" + direction (≠ 0);
 //! kind = "point"      # intensity = 1

@@ -44,6 +44,8 @@ pub(super) struct RawSphere {
     pub(super) specular: Option<Spanned<Rgb>>,
     pub(super) shininess: Option<Spanned<f64>>,
     pub(super) mirror: Option<Spanned<Rgb>>,
+    pub(super) refraction: Option<Spanned<Rgb>>,
+    pub(super) ior: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]

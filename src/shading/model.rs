@@ -181,7 +181,7 @@ mod tests {
                 } else {
                     [1.0, 8.0, 32.0, 5000.0][k]
                 },
-                mirror: Vec3::ZERO,
+                ..Material::default()
             };
             let sphere = Sphere::new(g.vec(8.0 * scale), (0.2 + g.unit()) * scale);
             scene.add_sphere(sphere, material).unwrap();

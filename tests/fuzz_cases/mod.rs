@@ -145,6 +145,12 @@ impl<'a> Arbitrary<'a> for ApiCase {
                 } else {
                     Color::ZERO
                 },
+                refraction: if u.arbitrary::<u8>()? % 4 == 0 {
+                    color(u)?
+                } else {
+                    Color::ZERO
+                },
+                ior: mostly(u, 0.5, 2.5)?,
             };
             spheres.push((Sphere::new(centre, radius), material));
         }

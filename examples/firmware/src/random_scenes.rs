@@ -201,6 +201,7 @@ pub fn build(k: usize, scene: &mut RandomScene) -> Result<(Camera, RenderOptions
             },
             shininess: g.pick(&[1.0, 8.0, 32.0, 128.0, 1000.0]),
             mirror,
+            ..Material::default()
         };
         // A full scene is not an error here: the capacity bounds `n`.
         if scene.spheres().len() < SPHERES {

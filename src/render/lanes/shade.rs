@@ -5,7 +5,7 @@ use super::*;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Shades the span's stored primary hits four neighbouring pixels at a time, one lane pass
-    /// for each sphere that is not a mirror among the four ([`shade_model`](crate::shading)),
+    /// for each sphere that sends no secondary ray among the four ([`shade_model`](crate::shading)),
     /// into `cull.hits.path.px`, marking them in `cull.hits.path.done`: the pixels `next_pixel` would compute one
     /// by one, bit for bit (the hit records built lane by lane as `make_hit` builds them, the
     /// shadow tests the scalar ones, asked for the same lanes and lights). Misses are marked
@@ -74,7 +74,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The colours of the lanes `active` of the span's four stored hits from slot `q`, all on
     /// sphere `si` (`ts` their t, `dir` their view directions by coordinate), shaded in lanes
     /// as `shade_span4` describes; the other lanes' values are meaningless. `None` where the
-    /// scalar path must shade them (a mirror, a case the lanes leave to it). `ALL`: all four lanes
+    /// scalar path must shade them (a mirror or glass, which the lanes leave to it). `ALL`: all four lanes
     /// (the common group); a parameter so that the common group and `shade4_mixed` each get a
     /// copy of their own, whose shadow-test closure is inlined (shared, it goes out of line).
     #[inline(always)]
@@ -94,7 +94,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let scene = self.scene;
         let active = if ALL { 0b1111 } else { active };
         let (k, sphere) = (self.tables.eye.get(si)?, scene.spheres().get(si)?);
-        if scene.has_mirror(si) && scene.max_depth() > 0 {
+        if scene.sends_secondary(si) && scene.max_depth() > 0 {
             return None;
         }
         let dir = V {
