@@ -54,6 +54,21 @@ fn tilted() {
     conforms("tilted");
 }
 
+#[test]
+fn glass() {
+    conforms("glass");
+}
+
+#[test]
+fn glass_inside() {
+    conforms("glass_inside");
+}
+
+#[test]
+fn glass_mirror() {
+    conforms("glass_mirror");
+}
+
 /// The comparison itself must be able to fail: a visibly wrong render is rejected.
 #[test]
 fn a_wrong_image_fails() {

@@ -4,13 +4,16 @@
 pub mod rng;
 
 /// The conformance scenes in tests/data (NAME.toml with its expected NAME.png).
-pub const CONFORMANCE: [&str; 6] = [
+pub const CONFORMANCE: [&str; 9] = [
     "flat",
     "lit",
     "mirror",
     "room",
     "supersampled_srgb",
     "tilted",
+    "glass",
+    "glass_inside",
+    "glass_mirror",
 ];
 
 use embedded_graphics::pixelcolor::{Rgb888, RgbColor};

@@ -51,6 +51,8 @@ pub struct RSphere {
     ks: V,
     s: f64,
     km: V,
+    kt: V,
+    ior: f64,
 }
 
 pub enum RLight {
@@ -141,6 +143,8 @@ impl Reference {
                 ks: v(m.specular),
                 s: m.shininess as f64,
                 km: v(m.mirror),
+                kt: v(m.refraction),
+                ior: m.ior as f64,
             })
             .collect();
         let lights = sc
@@ -268,6 +272,10 @@ impl Reference {
             let r = sub(d, mul(n, 2.0 * dot(d, n)));
             col = add(col, had(s.km, self.trace(p, r, Some((i, off)), depth + 1)));
         }
+        if s.kt != [0.0; 3] && depth < self.max_depth {
+            let t = refracted(d, n, dot(off, n) > 0.0, s.ior);
+            col = add(col, had(s.kt, self.trace(p, t, Some((i, off)), depth + 1)));
+        }
         col
     }
 
@@ -340,6 +348,21 @@ impl Reference {
             }
         }
         out
+    }
+}
+
+/// The refracted direction (unit) of a ray along `d` at a hit with facing normal `n`, entering
+/// the sphere or leaving it, or the mirror direction beyond the critical angle: the textbook
+/// formula.
+pub fn refracted(d: V, n: V, entering: bool, ior: f64) -> V {
+    let d = norm(d);
+    let eta = if entering { 1.0 / ior } else { ior };
+    let cos_i = -dot(d, n);
+    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+    if k < 0.0 {
+        sub(d, mul(n, 2.0 * dot(d, n)))
+    } else {
+        add(mul(d, eta), mul(n, eta * cos_i - k.sqrt()))
     }
 }
 
