@@ -139,3 +139,74 @@ fn extreme_magnitudes() {
 fn overflow() {
     check("overflow", 0.1);
 }
+
+/// A glass ball (and one of glass and mirror) resting on a ground of radius 10⁶, the eye 1
+/// above it.
+#[test]
+fn glass_ground_1e6() {
+    check("glass_ground_1e6", 0.5);
+}
+
+/// Glass spheres of radius 10⁻⁴ seen through a field of view of 0.004°.
+#[test]
+fn glass_tiny() {
+    check("glass_tiny", 0.3);
+}
+
+/// The conformance scene `glass` moved 10⁴ from the origin.
+#[test]
+fn glass_far() {
+    check("glass_far", 0.5);
+}
+
+/// Rays entering a glass ball at grazing incidence, which meet its far wall at the critical
+/// angle.
+#[test]
+fn glass_grazing() {
+    check("glass_grazing", 0.3);
+}
+
+/// A sphere of `ior` 1 with `k_t = 1` and no diffuse or specular colour is invisible: the
+/// scene renders as without it (shadows off, which it would cast), within 1 level.
+#[test]
+fn glass_of_index_one_is_invisible() {
+    let file: Box<Desktop> = Box::new(scene_file::load("tests/data/glass.toml").unwrap());
+    let invisible = microray::Material {
+        diffuse: microray::Color::ZERO,
+        specular: microray::Color::ZERO,
+        refraction: microray::Color::ONE,
+        ior: 1.0,
+        ..microray::Material::default()
+    };
+    let (mut with, mut without) = (file.clone(), file.clone());
+    with.scene = microray::Scene::new();
+    without.scene = microray::Scene::new();
+    for scene in [&mut with.scene, &mut without.scene] {
+        scene.set_ambient(file.scene.ambient()).unwrap();
+        scene.set_background(file.scene.background()).unwrap();
+        scene.set_max_depth(file.scene.max_depth()).unwrap();
+        scene.set_shadows(false);
+        for light in file.scene.lights() {
+            scene.add_light(*light).unwrap();
+        }
+    }
+    let spheres = file.scene.spheres().iter().zip(file.scene.materials());
+    let mut glass = 0;
+    for (sphere, material) in spheres {
+        if material.refraction.is_zero() {
+            with.scene.add_sphere(*sphere, *material).unwrap();
+            without.scene.add_sphere(*sphere, *material).unwrap();
+        } else {
+            with.scene.add_sphere(*sphere, invisible).unwrap();
+            glass += 1;
+        }
+    }
+    assert_eq!(glass, 1);
+    let (a, b) = (common::render(&with), common::render(&without));
+    let d = common::diff(&a, &b);
+    println!("{d:?}");
+    assert!(d.max <= 1, "{d:?}");
+    // The ball covers part of the image: the test compares something.
+    let plain = common::render(&file);
+    assert!(common::diff(&plain, &b).over8 > 1000);
+}
