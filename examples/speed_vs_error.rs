@@ -234,10 +234,42 @@ fn sum_hits(
     acc
 }
 
+/// The refracted rays that a 160×120 render of `file` (glass.toml) casts, one ray a pixel, in
+/// [`shadow_loop`]'s form: from every primary hit on glass the ray into it, and from the hit
+/// where that ray meets a sphere (leaving the glass) the next refracted ray.
+fn refracted_rays(file: &Desktop) -> Vec<(Vec3, Vec3, usize)> {
+    let scene = &file.scene;
+    let glass = |i: usize| scene.materials()[i].refraction != Vec3::ZERO;
+    let (w, h) = (file.camera.width(), file.camera.height());
+    let mut out = vec![];
+    for j in 0..h {
+        for i in 0..w {
+            let ray = file.camera.view_ray(i, j, 0, 0, 1);
+            let Some(hit) = scene.find_intersection(&ray, f32::MIN_POSITIVE, f32::INFINITY) else {
+                continue;
+            };
+            if !glass(hit.sphere) {
+                continue;
+            }
+            let ior = scene.materials()[hit.sphere].ior;
+            let inside = microray::shading::refract(&ray, &hit, ior);
+            out.push((hit.point(), inside.dir, hit.sphere));
+            if let Some(exit) = microray::shading::find_from(scene, &inside, &hit) {
+                if glass(exit.sphere) {
+                    let ior = scene.materials()[exit.sphere].ior;
+                    let out_ray = microray::shading::refract(&inside, &exit, ior);
+                    out.push((exit.point(), out_ray.dir, exit.sphere));
+                }
+            }
+        }
+    }
+    out
+}
+
 // ---- a plain f32 renderer of the model with a pluggable intersection ---------------------------
 
-/// The model rendered the plain way, in f32: hit point `o + t d`, normal `(p − m)/r`, shadow and
-/// mirror rays from `p`, the sphere a ray leaves met only at its other root. Only the
+/// The model rendered the plain way, in f32: hit point `o + t d`, normal `(p − m)/r`, shadow,
+/// mirror and refracted rays from `p`, the sphere a ray leaves met only at its other root. Only the
 /// intersection formula changes between variants, so the images show what it alone buys;
 /// microray's own image adds the other remedies (see docs/numerics.md).
 struct Plain<'a> {
@@ -317,6 +349,23 @@ impl Plain<'_> {
         if m.mirror != Vec3::ZERO && depth < scene.max_depth() {
             let r = d - n * (2.0 * d.dot(n));
             col += m.mirror.mul_elem(self.trace(p, r, Some(i), depth + 1));
+        }
+        if m.refraction != Vec3::ZERO && depth < scene.max_depth() {
+            // Snell's law as textbooks write it, η = 1/ior entering and ior leaving.
+            let u = d / d.length();
+            let eta = if (p - s.center).dot(n) > 0.0 {
+                1.0 / m.ior
+            } else {
+                m.ior
+            };
+            let c = -u.dot(n);
+            let k = 1.0 - eta * eta * (1.0 - c * c);
+            let r = if k < 0.0 {
+                d - n * (2.0 * d.dot(n))
+            } else {
+                u * eta + n * (eta * c - libm::sqrtf(k))
+            };
+            col += m.refraction.mul_elem(self.trace(p, r, Some(i), depth + 1));
         }
         col
     }
@@ -963,7 +1012,7 @@ fn main() {
         }
         _ => panic!("lit.toml's second light is its sun"),
     }
-    println!("\nThe same variants on the secondary rays that rendering tests/data/lit.toml and mirror.toml casts (160×120, one ray a pixel): the directional light's shadow rays from every primary hit that faces it, which shading tests with Prepared::leaving_blocks, and the first mirror bounces, which it tests with Prepared::leaving_hit (the point light's shadow rays are cast from the light with per-frame constants, as primary rays are). Unlike the shadow-like set above, whose directions cover each point's whole hemisphere, these are the rays a render asks about:\n");
+    println!("\nThe same variants on the secondary rays that rendering tests/data/lit.toml, mirror.toml and glass.toml casts (160×120, one ray a pixel): the directional light's shadow rays from every primary hit that faces it, which shading tests with Prepared::leaving_blocks, the first mirror bounces and the rays refracted into and out of the glass ball, which it tests with Prepared::leaving_hit (the point light's shadow rays are cast from the light with per-frame constants, as primary rays are). Unlike the shadow-like set above, whose directions cover each point's whole hemisphere, these are the rays a render asks about:\n");
     println!("| rays | tests | variant | ns/test (median) | × textbook | Cortex-M4F instructions/test (× textbook with vsqrt) |");
     println!("|---|---:|---|---:|---:|---:|");
     let sun = Sun::new(&LIT_SPHERES, lit_sun()).unwrap();
@@ -1043,6 +1092,37 @@ fn main() {
                 )
             );
         }
+    }
+    // The refracted rays of tests/data/glass.toml: host only (the firmware has no glass).
+    let glass: Box<Desktop> = Box::new(scene_file::load("tests/data/glass.toml").unwrap());
+    let rays = refracted_rays(&glass);
+    let spheres = glass.scene.spheres();
+    let tests = rays.len() * (spheres.len() - 1);
+    let mut f_textbook = || shadow_loop(&rays, spheres, |o, _, _, s, d| textbook(o, d, s));
+    let mut f_default = || shadow_loop(&rays, spheres, |o, _, _, s, d| default_per_ray(o, d, s));
+    let mut f_hit = || {
+        shadow_loop(&rays, spheres, |_, anchor, rel, s, d| {
+            let hi = f32::INFINITY;
+            Prepared::leaving_hit(anchor, rel, s, d, f32::MIN_POSITIVE, hi).map(|(t, _)| t)
+        })
+    };
+    let t = time_all(
+        tests,
+        runs,
+        &mut [&mut f_textbook, &mut f_default, &mut f_hit],
+    );
+    for (name, ns) in [
+        ("textbook quadratic", t[0]),
+        ("default, per ray (ray_intersect)", t[1]),
+        (
+            "default as shading calls it (refracted rays: Prepared::leaving_hit)",
+            t[2],
+        ),
+    ] {
+        println!(
+            "| glass.toml's refracted rays | {tests} | {name} | {ns:.2} | {:.2} | (no glass on the firmware) |",
+            ns / t[0]
+        );
     }
     let (tests, decided, wrong) = sun_agreement(if quick { 20_000 } else { 200_000 });
     println!(
