@@ -291,10 +291,8 @@ impl Reference {
         (255.0 * e + 0.5).floor() as u8
     }
 
-    /// Pixel (i, j), every primary direction moved by `k` f32 ulp of its largest component, per
-    /// component (`k = [0; 3]`: the pixel itself). The ulp of the largest component, not of
-    /// each: an f32 camera sums terms of the direction's size, so a small component is off by
-    /// ulps of that size too (37 of its own ulps, measured on a pixel of `glass_far`).
+    /// Pixel (i, j), every primary direction moved by `k` f32 ulp per component (`k = [0; 3]`:
+    /// the pixel itself).
     pub fn pixel(&self, i: u32, j: u32, k: [f64; 3]) -> [u8; 3] {
         let n = self.samples;
         let mut sum = [0.0; 3];
@@ -303,9 +301,8 @@ impl Reference {
                 let x = i as f64 + (sx as f64 + 0.5) / n as f64;
                 let y = j as f64 + (sy as f64 + 0.5) / n as f64;
                 let mut d = self.direction(x, y);
-                let ulp = ulp32(d[0].abs().max(d[1].abs()).max(d[2].abs()));
                 for c in 0..3 {
-                    d[c] += k[c] * ulp;
+                    d[c] += k[c] * ulp32(d[c]);
                 }
                 sum = add(sum, self.trace(self.eye, d, None, 0));
             }
@@ -315,8 +312,8 @@ impl Reference {
     }
 
     /// Whether pixel (i, j) changes by more than one level when its rays move by 2 f32 ulp of
-    /// their direction (of its largest component, on each component, all sign patterns): an
-    /// edge or tangent no f32 renderer can decide.
+    /// their direction (per component, all sign patterns): an edge or tangent no f32 renderer
+    /// can decide.
     pub fn sensitive(&self, i: u32, j: u32) -> bool {
         let base = self.pixel(i, j, [0.0; 3]);
         let mut ks = vec![];
