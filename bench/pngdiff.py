@@ -9,7 +9,9 @@ import sys
 import zlib
 
 
-def read_png(path):
+def read_samples(path):
+    """Width, height, channels (3 or 4), bit depth (8 or 16) and the rows of an RGB or RGBA PNG,
+    each a list of samples (channel values, alpha included)."""
     data = open(path, "rb").read()
     assert data[:8] == b"\x89PNG\r\n\x1a\n", path
     pos, idat, info = 8, b"", None
@@ -23,8 +25,9 @@ def read_png(path):
         elif kind == b"IDAT":
             idat += body
     w, h, depth, ctype, _, _, interlace = info
-    assert depth == 8 and interlace == 0 and ctype in (2, 6), (path, info)
-    bpp = 3 if ctype == 2 else 4
+    assert depth in (8, 16) and interlace == 0 and ctype in (2, 6), (path, info)
+    ch = 3 if ctype == 2 else 4
+    bpp = ch * depth // 8
     raw = zlib.decompress(idat)
     stride = w * bpp
     prev = bytearray(stride)
@@ -47,9 +50,16 @@ def read_png(path):
                 pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
                 pr = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
                 line[x] = (line[x] + pr) & 255
-        rows.append(bytes(line))
+        rows.append(list(line) if depth == 8 else list(struct.unpack(">%dH" % (stride // 2), line)))
         prev = line
-    px = [row[x * bpp:x * bpp + 3] for row in rows for x in range(w)]
+    return w, h, ch, depth, rows
+
+
+def read_png(path):
+    """An 8-bit PNG's width, height and RGB pixels, row by row."""
+    w, h, ch, depth, rows = read_samples(path)
+    assert depth == 8, (path, depth)
+    px = [row[x * ch:x * ch + 3] for row in rows for x in range(w)]
     return w, h, px
 
 
@@ -69,4 +79,5 @@ def main():
     sys.exit(0 if over1 <= 0.001 * n and over8 <= 0.0005 * n else 1)
 
 
-main()
+if __name__ == "__main__":
+    main()
