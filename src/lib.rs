@@ -8,8 +8,8 @@
 //!
 //! The layers, each one module: [`math`] → `simd` (the vector lanes, hosts only) →
 //! [`geometry`] (rays, spheres, intersection) → [`scene`] → [`camera`] and [`raster`] (screen
-//! bounds) → [`shading`] (the shading model) → [`render`] (frames, bands, pixels) → [`output`]
-//! (embedded-graphics displays). With the `scene-file` feature (std),
+//! bounds) → [`shading`] (the shading model, mirrors and glass) → [`render`] (frames, bands,
+//! pixels) → [`output`] (embedded-graphics displays). With the `scene-file` feature (std),
 //! [`scene_file`](scene_file/index.html) reads the TOML scene format. ARCHITECTURE.md in the
 //! repository says where each part lives.
 //!
@@ -87,7 +87,10 @@
 //!
 // Plain links to `scene_file`: without the feature there is no module for rustdoc to resolve.
 //! - `scene-file`: [`scene_file`](scene_file/index.html), the TOML scene reader; turns on
-//!   `std` and adds `serde` and `toml`.
+//!   `std` and `refraction` and adds `serde` and `toml`.
+//! - `refraction`: glass ([`Material::refraction`], [`Material::ior`],
+//!   `shading::refract`). Without it a scene with glass is
+//!   [`Error::RefractionNotEnabled`], and no refraction code is in the binary.
 //! - `std`: links the standard library, which the scene reader needs. Nothing else depends
 //!   on it: [`Error`] is a `core::error::Error` in every build.
 //! - `defmt`: `defmt::Format` for [`Error`] and the small `Copy` types ([`Vec3`], [`Sphere`],

@@ -27,8 +27,8 @@ pub struct Material {
     /// Mirror reflectance `k_m`.
     pub mirror: Color,
     /// Transmittance `k_t`: the share of the refracted ray's colour that the hit adds (see
-    /// [`refract`](crate::shading::refract)). A scene accepts a non-zero value only with the
-    /// crate's `refraction` feature.
+    /// `shading::refract`). A scene accepts a non-zero value only with the crate's
+    /// `refraction` feature.
     pub refraction: Color,
     /// Index of refraction of the sphere's inside (finite and > 0); outside every sphere is
     /// air, of index 1. Used only where `refraction` is not zero.

@@ -9,7 +9,7 @@
 //! `colour = k_d ⊙ ambient + Σ I ⊙ (k_d (n·l) + k_s max(0, n·h)^s)` over the lights with
 //! `n·l > 0` that no sphere blocks, with `v = −d/|d|` and `h = normalize(v + l)`; a mirror adds
 //! `k_m ⊙` the colour seen along `d − 2(d·n)n`, glass `k_t ⊙` the colour seen along the
-//! refracted ray ([`refract`]), up to the scene's `max_depth`.
+//! refracted ray (`refract`, feature `refraction`), up to the scene's `max_depth`.
 //!
 //! Shadow, mirror and refracted rays start on the surface of the sphere that was hit. That
 //! sphere is never intersected again; [`exit_root`] says analytically where such a ray leaves it
