@@ -287,6 +287,56 @@ fn invalid_values() {
     );
 }
 
+/// `refraction` (a colour, default 0) and `ior` (default 1.5, finite and > 0), checked like
+/// every other field.
+#[test]
+fn glass_fields() {
+    let text = format!(
+        "{CAMERA}[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\n\
+         [[sphere]]\ncenter = [0, 3, 0]\nradius = 1\nrefraction = [0.9, 1, 0.8]\nior = 1.33\n"
+    );
+    let f = parse_desktop(&text).unwrap();
+    let (plain, glass) = (f.scene.materials()[0], f.scene.materials()[1]);
+    assert_eq!((plain.refraction, plain.ior), (Color::ZERO, 1.5));
+    assert_eq!(
+        (glass.refraction, glass.ior),
+        (Color::new(0.9, 1.0, 0.8), 1.33)
+    );
+    let sphere = "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\n";
+    rejects(
+        &format!("{sphere}refraction = -0.1\n"),
+        7,
+        "sphere[0].refraction",
+        ">= 0",
+    );
+    rejects(
+        &format!("{sphere}refraction = [0, nan, 0]\n"),
+        7,
+        "sphere[0].refraction",
+        "finite",
+    );
+    rejects(&format!("{sphere}ior = 0\n"), 7, "sphere[0].ior", "> 0");
+    rejects(&format!("{sphere}ior = -1.5\n"), 7, "sphere[0].ior", "> 0");
+    rejects(
+        &format!("{sphere}ior = inf\n"),
+        7,
+        "sphere[0].ior",
+        "finite",
+    );
+    rejects(
+        &format!("{sphere}ior = 1e39\n"),
+        7,
+        "sphere[0].ior",
+        "f32 range",
+    );
+    rejects(
+        &format!("{sphere}ior = \"glass\"\n"),
+        7,
+        "sphere[0].ior",
+        "invalid type",
+    );
+}
+
 #[test]
 fn invalid_cameras() {
     let cases = [
