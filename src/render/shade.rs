@@ -121,13 +121,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // No candidate: only the hit's own sphere could block, and only when it is seen from
         // inside (see `in_shadow_among`). Most span lists are empty: decided from the list's
         // range, before a slice is built.
-        if lists.is_some_and(|l| l.is_empty(i)) && !(hit.normal.dot(hit.offset) < 0.0) {
+        if lists.is_some_and(|l| l.is_empty(i)) && !hit.from_inside() {
             return false;
         }
         // The slice's own test, which the range's has decided wherever a list exists; left in
         // for the register allocation of the Cortex-M shading loop.
         let cands = self.candidates(lists, i);
-        if cands.is_empty() && !(hit.normal.dot(hit.offset) < 0.0) {
+        if cands.is_empty() && !hit.from_inside() {
             return false;
         }
         // A copy for the out-of-line test: the caller's record, which `shade_stored` keeps

@@ -66,6 +66,24 @@ impl Hit {
     pub fn point(&self) -> Vec3 {
         self.anchor + self.rel
     }
+
+    /// Whether the hit is on the inside of its sphere (the facing normal points to the centre):
+    /// where shadow rays can meet that sphere again, and glass is left rather than entered.
+    ///
+    /// ```
+    /// use microray::{Material, Ray, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+    /// let out = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
+    /// assert!(!scene.find_intersection(&out, 0.0, 9.0).unwrap().from_inside());
+    /// let from_centre = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0));
+    /// assert!(scene.find_intersection(&from_centre, 0.0, 9.0).unwrap().from_inside());
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    #[inline(always)]
+    pub fn from_inside(&self) -> bool {
+        self.normal.dot(self.offset) < 0.0
+    }
 }
 
 /// The hit record for parameter `t` on sphere `i`, given `f = ray origin − centre`, for a

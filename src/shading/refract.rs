@@ -48,8 +48,7 @@ pub fn refract(ray: &Ray, hit: &Hit, ior: f32) -> Ray {
     const MAX_IOR: f32 = (1u64 << 60) as f32;
     let ior = if ior > MAX_IOR { MAX_IOR } else { ior };
     let n = hit.normal;
-    // The facing normal is the outward one on a hit from outside.
-    let entering = n.dot(hit.offset) > 0.0;
+    let entering = !hit.from_inside();
     let u = ray.dir.normalize_fast();
     let cos_i = -u.dot(n);
     let (a, b) = if entering { (1.0, ior) } else { (ior, 1.0) };

@@ -98,7 +98,7 @@ pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
     // Its own sphere can block a ray only when the hit is seen from inside: from outside,
     // a light is asked about only when n·l > 0, and the ray heads out (`exit_root` is None, up
     // to the rounding of a ray that grazes the tangent plane, which is lit by a zero n·l).
-    let inside = hit.normal.dot(hit.offset) < 0.0;
+    let inside = hit.from_inside();
     let others = candidates.filter(|&j| j != hit.sphere);
     light.blocked(spheres, hit, inside, v, light_c, others)
 }
