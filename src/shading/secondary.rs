@@ -173,6 +173,7 @@ fn walk<const S: usize, const L: usize>(
 /// mirror ray, returned, and the refracted ray, returned when there is no mirror ray and put
 /// in `deferred` when there is.
 #[inline(always)]
+#[cfg_attr(not(feature = "refraction"), allow(unused_variables))]
 fn send<const S: usize, const L: usize>(
     scene: &Scene<S, L>,
     ray: &Ray,
@@ -198,6 +199,5 @@ fn send<const S: usize, const L: usize>(
         // Room for it: see `walk`.
         let _ = deferred.push(refracted);
     }
-    let _ = &deferred;
     mirror
 }
