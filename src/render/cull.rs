@@ -79,7 +79,7 @@ pub(super) struct Cull<const S: usize, const L: usize> {
 /// The primary hits a span keeps for its bounds and shading, slot by slot (see [`Kept`]).
 ///
 /// On Cortex-M `repr(C)`, the per-slot arrays first (and [`Cull`] starts with them), so that a
-/// new row's zeros (`Cull::new`) are written straight into the `Row` that `Frame::row` returns,
+/// new row's zeros (`Cull::new`) are written straight into the `Pixels` that `Frame::pixels` returns,
 /// not built in a temporary and copied. Hosts keep the compiler's layout: `repr(C)` gains them
 /// nothing.
 #[derive(Debug)]

@@ -2,6 +2,9 @@
 //! brute-force reference path. Each render path (`lanes/`, `scalar.rs`) fills its rows its own
 //! way (`rows_into`; hosts in tiles).
 
+use embedded_graphics::prelude::{Point, Size};
+use embedded_graphics::primitives::Rectangle;
+
 use super::*;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
@@ -117,17 +120,57 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// assert_eq!(frame.row(4).count(), 0);
     /// # Ok::<(), microray::Error>(())
     /// ```
-    // Out of line: whatever temporary the compiler builds the `Row` in stays in this frame,
-    // which is gone before the row is traced (a caller's frame would keep it).
+    pub fn row(&self, j: u32) -> Pixels<'_, 'a, S, L> {
+        self.pixels(&Rectangle::new(
+            Point::new(0, j as i32),
+            Size::new(self.width(), 1),
+        ))
+    }
+
+    /// The pixels of `area` (clipped to the image), row by row from the top, each row left to
+    /// right, traced as [`Frame::row`] traces them: what a display's `fill_contiguous` over
+    /// that rectangle consumes. Each pixel equals [`Frame::pixel`]'s, bit for bit.
+    ///
+    /// ```
+    /// # use embedded_graphics::{prelude::*, primitives::Rectangle};
+    /// # use microray::{Camera, Frame, Material, RenderOptions, Scene, Sphere, Vec3};
+    /// let mut scene: Scene<1, 0> = Scene::new();
+    /// scene.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+    /// let cam = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 16, 16)?;
+    /// let mut storage = microray::FrameStorage::new();
+    /// let frame = Frame::new(&scene, &cam, RenderOptions::default(), &mut storage)?;
+    /// let area = Rectangle::new(Point::new(6, 5), Size::new(4, 3));
+    /// let mut pixels = frame.pixels(&area);
+    /// assert_eq!(pixels.len(), 12);
+    /// for p in area.points() {
+    ///     assert_eq!(pixels.next(), Some(frame.pixel(p.x as u32, p.y as u32)));
+    /// }
+    /// // Clipped to the image: only the 2 × 2 pixels of the corner are inside.
+    /// assert_eq!(frame.pixels(&Rectangle::new(Point::new(14, -3), Size::new(9, 5))).count(), 4);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    // Out of line: whatever temporary the compiler builds the `Pixels` in stays in this frame,
+    // which is gone before a row is traced (a caller's frame would keep it).
     #[inline(never)]
-    pub fn row(&self, j: u32) -> Row<'_, 'a, S, L> {
-        // The row's lists are made by its first pixel: the `Row` is built in place, never
+    pub fn pixels(&self, area: &Rectangle) -> Pixels<'_, 'a, S, L> {
+        // Clipped in i64: a rectangle may start anywhere in i32 and reach past it.
+        let clip = |start: i32, len: u32, n: u32| {
+            let a = (start as i64).clamp(0, n as i64) as u32;
+            let b = (start as i64 + len as i64).clamp(0, n as i64) as u32;
+            (a, b.max(a))
+        };
+        let (i0, i1) = clip(area.top_left.x, area.size.width, self.width());
+        let (j0, j1) = clip(area.top_left.y, area.size.height, self.height());
+        // The row's lists are made by its first pixel: the `Pixels` is built in place, never
         // moved with them filled in (it is large, microcontroller stacks are small).
-        Row {
+        Pixels {
             frame: self,
-            j,
-            i: 0,
-            end: if j < self.height() { self.width() } else { 0 },
+            i0,
+            i1,
+            next_row: if i0 < i1 { j0 } else { j1 },
+            end_row: j1,
+            j: j0,
+            i: i1,
             cull: Cull::new(),
         }
     }
@@ -154,12 +197,20 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// The pixel `(i, j)` of row `j`, pixels taken in order from `i = 0` (which starts the
-    /// row with [`Frame::start_row`]).
+    /// row with [`Frame::start_row`]): the Cortex-M path's `render_rows`.
+    #[cfg(not(lanes))]
     #[inline]
     pub(super) fn next_pixel(&self, j: u32, i: u32, cull: &mut Cull<S, L>) -> Rgb888 {
         if i == 0 {
             self.start_row(j, cull);
         }
+        self.row_pixel(j, i, cull)
+    }
+
+    /// The pixel `(i, j)` of the row started in `cull`, pixels taken in order from any
+    /// column: a span starts wherever the last one ended.
+    #[inline(always)]
+    pub(super) fn row_pixel(&self, j: u32, i: u32, cull: &mut Cull<S, L>) -> Rgb888 {
         if i >= cull.span_end {
             self.start_span(j, i, cull);
         }
@@ -325,33 +376,63 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 }
 
-/// The pixels of one row, traced span by span (see [`Frame::row`]).
+/// The pixels of a rectangle of the image, row by row from the top, traced span by span (see
+/// [`Frame::pixels`] and [`Frame::row`]).
 #[derive(Debug)]
-pub struct Row<'f, 'a, const S: usize, const L: usize> {
+pub struct Pixels<'f, 'a, const S: usize, const L: usize> {
     pub(super) frame: &'f Frame<'a, S, L>,
-    pub(super) j: u32,
-    pub(super) i: u32,
-    pub(super) end: u32,
+    /// The columns `i0..i1`.
+    i0: u32,
+    i1: u32,
+    /// The rows still to start, `next_row..end_row`.
+    next_row: u32,
+    end_row: u32,
+    /// The row being traced, and its next column (`i1` once done).
+    j: u32,
+    i: u32,
     pub(super) cull: Cull<S, L>,
 }
 
-impl<const S: usize, const L: usize> Iterator for Row<'_, '_, S, L> {
+impl<const S: usize, const L: usize> Pixels<'_, '_, S, L> {
+    /// Column and row of the pixel that `next` returned last (meaningless before the first).
+    #[inline]
+    pub(crate) fn last_position(&self) -> (u32, u32) {
+        (self.i.wrapping_sub(1), self.j)
+    }
+
+    /// Starts the next row; false when none is left.
+    #[cold]
+    fn start_next_row(&mut self) -> bool {
+        if self.next_row >= self.end_row {
+            return false;
+        }
+        (self.j, self.i) = (self.next_row, self.i0);
+        self.next_row += 1;
+        self.frame.start_row(self.j, &mut self.cull);
+        true
+    }
+}
+
+impl<const S: usize, const L: usize> Iterator for Pixels<'_, '_, S, L> {
     type Item = Rgb888;
 
     // Out of line: the row's whole pixel pipeline, which displays reach through adapters
-    // (`by_ref`, `map`); one copy of it, whatever wraps the row.
+    // (`by_ref`, `map`); one copy of it, whatever wraps the pixels.
     #[inline(never)]
     fn next(&mut self) -> Option<Rgb888> {
-        if self.i >= self.end {
+        if self.i >= self.i1 && !self.start_next_row() {
             return None;
         }
-        let px = self.frame.next_pixel(self.j, self.i, &mut self.cull);
+        let px = self.frame.row_pixel(self.j, self.i, &mut self.cull);
         self.i += 1;
         Some(px)
     }
 
     fn size_hint(&self) -> (usize, Option<usize>) {
-        let n = (self.end - self.i) as usize;
+        let rows = (self.end_row - self.next_row) as usize;
+        let n = (self.i1 - self.i) as usize + rows * (self.i1 - self.i0) as usize;
         (n, Some(n))
     }
 }
+
+impl<const S: usize, const L: usize> ExactSizeIterator for Pixels<'_, '_, S, L> {}

@@ -102,7 +102,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     pub(super) fn span_gathered(&self, _j: u32, _cull: &mut Cull<S, L>) {}
 
     /// [`Frame::render_rows`]'s rows `first_row..first_row + rows` into `buf` (whole rows of the
-    /// image's width): row by row, as [`Row`] does.
+    /// image's width): row by row, as [`Pixels`] does.
     #[inline(always)]
     pub(super) fn rows_into<C: From<Rgb888>>(&self, first_row: u32, _rows: u32, buf: &mut [C]) {
         let w = self.width() as usize;

@@ -8,6 +8,7 @@ use arbitrary::{Arbitrary, Unstructured};
 use embedded_graphics::mock_display::MockDisplay;
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
 use embedded_graphics::prelude::*;
+use embedded_graphics::primitives::Rectangle;
 use microray::scene_file::{parse, SceneFile};
 use microray::{
     Camera, Color, Encoding, Error, Frame, FrameStorage, Light, Material, RenderOptions, Scene,
@@ -223,7 +224,8 @@ pub fn check_api(case: &ApiCase) -> (Reached, u32) {
 }
 
 /// Every way of rendering `frame` gives its pixels: `render` = brute force = bands of the
-/// heights `bands` gives = `row` = `draw`, and the dithered rows = `draw_dithered`.
+/// heights `bands` gives = `row` = `draw` = `pixels` of a rectangle = `draw_progressive`'s
+/// final image, and the dithered rows = `draw_dithered`.
 pub fn check_frame<const S: usize, const L: usize>(frame: &Frame<S, L>, bands: &[u8]) {
     let (w, h) = (frame.width(), frame.height());
     let n = (w * h) as usize;
@@ -266,6 +268,34 @@ pub fn check_frame<const S: usize, const L: usize>(frame: &Frame<S, L>, bands: &
     assert!(
         display.px.iter().zip(&whole).all(|(d, p)| *d == Some(*p)),
         "draw's pixels"
+    );
+    // A rectangle from the band bytes, anywhere (partly outside the frame too): its pixels,
+    // row by row, are the rendered ones.
+    let b = |k: usize| bands.get(k).copied().unwrap_or(0) as i32;
+    let area = Rectangle::new(
+        Point::new(b(0) % (w as i32 + 2) - 1, b(1) % (h as i32 + 2) - 1),
+        Size::new(1 + b(2) as u32 % w, 1 + b(3) as u32 % h),
+    );
+    let inside = area.intersection(&Rectangle::new(Point::zero(), Size::new(w, h)));
+    let pixels: Vec<Rgb888> = frame.pixels(&area).collect();
+    let expected: Vec<Rgb888> = inside
+        .points()
+        .map(|p| whole[(p.y as u32 * w + p.x as u32) as usize])
+        .collect();
+    assert!(pixels == expected, "pixels of {area:?}");
+    // The progressive path's final image.
+    let mut display = Recorder {
+        size: Size::new(w, h),
+        px: vec![None; n],
+        drawn: 0,
+    };
+    let p = frame
+        .draw_progressive(&mut display, |_, _| core::ops::ControlFlow::Continue(()))
+        .unwrap();
+    assert!(p.is_complete());
+    assert!(
+        display.px.iter().zip(&whole).all(|(d, p)| *d == Some(*p)),
+        "draw_progressive's final pixels"
     );
     let mut dithered = vec![Rgb565::BLACK; n];
     assert_eq!(frame.render_rows_dithered(0, &mut dithered), Ok(h));
