@@ -4,6 +4,9 @@
 //! file), and the CRC-32 of its frame must equal the constant committed there, which is what the
 //! firmware prints under QEMU on both boards. The QEMU run itself is the ignored test below.
 
+#[allow(dead_code)]
+#[path = "../examples/firmware/src/displays.rs"]
+mod displays;
 #[path = "../examples/firmware/src/random_scenes.rs"]
 mod random_scenes;
 #[allow(dead_code)]
@@ -43,6 +46,29 @@ fn host_crc_matches_the_committed_firmware_crc() {
         scene::EXPECTED_CRC32_RGB565,
         "host crc32_rgb565={crc565:08x}"
     );
+}
+
+/// The display paths of the `displays` firmware, on the host: the plain draw is one window,
+/// the progressive draw ends in the plain image (by digest; `tests/display.rs` compares
+/// every pixel), and the dithered draws give the CRCs committed in `displays.rs`.
+#[test]
+fn host_display_paths_match_the_committed_values() {
+    let mut scene = scene::BenchScene::new();
+    scene::build_scene(&mut scene).unwrap();
+    let camera = scene::camera().unwrap();
+    let mut storage = microray::FrameStorage::new();
+    let frame = Frame::new(&scene, &camera, scene::options(), &mut storage).unwrap();
+    let n = scene::WIDTH * scene::HEIGHT;
+    let plain = displays::plain_digest(&frame);
+    assert_eq!((plain.windows, plain.blocks, plain.pixels), (1, 0, n));
+    let (prog, last, _) = displays::progressive_digest(&frame);
+    assert!(last.is_complete());
+    assert_eq!((prog.sum, prog.xor, prog.pixels), (plain.sum, plain.xor, n));
+    let (crc1, px1, win1) = displays::crc_binary(&frame);
+    let (crc4, px4, win4) = displays::crc_gray4(&frame);
+    assert_eq!((px1, win1, px4, win4), (n, 1, n, 1));
+    assert_eq!(crc1, displays::EXPECTED_CRC32_BINARY, "host crc32_binary={crc1:08x}");
+    assert_eq!(crc4, displays::EXPECTED_CRC32_GRAY4, "host crc32_gray4={crc4:08x}");
 }
 
 /// Every seeded scene builds, renders the brute-force pixels, and has the CRC committed in

@@ -9,7 +9,8 @@
 # SysTick, not cycles. Sizes come from the linked ELF (tools/elfsize.py by symbol, plus
 # tools/inlined.py for microray's code inlined into the firmware's); the panic check walks
 # the call graph of the disassembly (tools/panic_check.py). The `scenes` binary renders the 56
-# seeded scenes of src/random_scenes.rs (scenes_differing=). Exits non-zero when a CRC differs
+# seeded scenes of src/random_scenes.rs (scenes_differing=); the `displays` binary checks the
+# one-window, progressive and 1-bit/grey dithered draws (displays_ok=, src/bin/displays.rs). Exits non-zero when a CRC differs
 # from the one committed in src/scene.rs or src/random_scenes.rs, the panic check fails, (m4f) vsqrt.f32 is missing, or
 # a budget is broken: stack high-water (whole run or render passes) above 2 KiB on any build,
 # or (m4f) microray's flash above 16 KiB at opt "s" or more than 400 instructions a pixel at
@@ -72,6 +73,27 @@ run() { # $1 = cargo profile, $2 = key suffix
     grep "^scene_crc=" <<<"$scenes" > "target/scene_crcs_${target}_$profile.txt"
     echo "error$suffix=scene CRCs differ from src/random_scenes.rs (target/scene_crcs_${target}_$profile.txt)"
     fail=1; }
+  # The display paths (src/bin/displays.rs): one window, the progressive draw's final image,
+  # its early stop, and the 1-bit and grey dithered CRCs.
+  local displays
+  set +e
+  displays=$(timeout 900 qemu-system-arm "${machine[@]}" -nographic -monitor none -serial none \
+        -semihosting-config enable=on,target=native -icount shift=0 \
+        -kernel "target/$target/$profile/displays")
+  status=$?
+  set -e
+  sed "s/^\([A-Za-z0-9_]*\)=/\1$suffix=/" <<<"$displays"
+  [ "$status" -eq 0 ] && grep -qx "displays_ok=1" <<<"$displays" || {
+    echo "error$suffix=displays: a display path differs (qemu exit status $status)"; fail=1; }
+  python3 tools/panic_check.py "target/$target/$profile/displays" "$objdump" \
+      plain_digest,progressive_digest,progressive_stopped,crc_binary,crc_gray4 \
+    | sed -n "s/^render_path_\(panics\|flash_bytes\|indirect_calls\|panic\|indirect\)=/displays_path_\1$suffix=/p" \
+    || { echo "error$suffix=panic reachable from a display path"; fail=1; }
+  # microray's code in that firmware (draw, progressive, dithering: reported, no budget).
+  local dsizes dinl
+  dsizes=$(python3 tools/elfsize.py "target/$target/$profile/displays" "$suffix")
+  dinl=$(python3 tools/inlined.py "target/$target/$profile/displays" "$objdump" ../../src "$suffix")
+  echo "displays_microray_total_flash_bytes$suffix=$(( $(sed -n "s/^microray_flash_bytes$suffix=//p" <<<"$dsizes") + ${dinl##*=} ))"
   local sizes inlined
   sizes=$(python3 tools/elfsize.py "$elf" "$suffix")
   echo "$sizes"

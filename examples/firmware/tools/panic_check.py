@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """Proves from the disassembly that the render path of a firmware ELF cannot reach a panic.
 
-Usage: panic_check.py FIRMWARE.elf [OBJDUMP]
+Usage: panic_check.py FIRMWARE.elf [OBJDUMP [ROOT,ROOT...]]
 
 Builds the static call graph (bl/b/b.w/cbz... targets that are other functions: calls and tail
-calls) from `objdump -d`, walks it from the render-path roots (`crc_rgb888` and
-`crc_rgb565_dithered` of scene.rs, both `#[inline(never)]`), and fails if the walk reaches
+calls) from `objdump -d`, walks it from the render-path roots (by default `crc_rgb888` and
+`crc_rgb565_dithered` of scene.rs, both `#[inline(never)]`; another firmware names its own),
+and fails if the walk reaches
 `core::panicking::*`, `rust_begin_unwind` or the panic handler, or meets an indirect call
 (`blx rN`, `bx rN` other than `bx lr`, or a load into pc), which it could not follow.
 
@@ -22,6 +23,8 @@ import sys
 ROOTS = ("crc_rgb888", "crc_rgb565_dithered")
 PANIC = re.compile(r"core::panicking::|rust_begin_unwind|^panic$|::panic::h[0-9a-f]+$")
 HEAD = re.compile(r"^([0-9a-f]+) <(.+)>:$")
+# An instruction line with its raw bytes: address, bytes, then the instruction after a tab.
+RAW = re.compile(r"^(\s*[0-9a-f]+:)\s+((?:[0-9a-f]{2,8} ?)+)\s*\t(.*)$")
 BRANCH = re.compile(r"^\s*[0-9a-f]+:\s+(bl|blx|b|b\.w|b\.n|b[a-z]{2}(?:\.w|\.n)?|cbn?z)\s+.*<(.+?)(\+0x[0-9a-f]+)?>")
 INDIRECT = re.compile(r"^\s*[0-9a-f]+:\s+(blx\s+(r\d+|ip|lr)|bx\s+(?!lr)\w+|mov\s+pc,|ldr\S*\s+pc,)")
 
@@ -29,14 +32,32 @@ INDIRECT = re.compile(r"^\s*[0-9a-f]+:\s+(blx\s+(r\d+|ip|lr)|bx\s+(?!lr)\w+|mov\
 def main():
     elf = sys.argv[1]
     objdump = sys.argv[2] if len(sys.argv) > 2 else "llvm-objdump"
-    text = subprocess.run([objdump, "-d", "--demangle", "--no-show-raw-insn", elf],
+    roots_wanted = tuple(sys.argv[3].split(",")) if len(sys.argv) > 3 else ROOTS
+    text = subprocess.run([objdump, "-d", "--demangle", elf],
                           check=True, capture_output=True, text=True).stdout
     calls, indirect, func, start = {}, {}, None, {}
+
+    def body(lines):
+        # lld fills the gap after a function with 0xd4d4 halfwords (a trap), which disassemble
+        # as `bmi` into whatever precedes: the trailing ones are padding, not code.
+        while lines and lines[-1][0] == "d4d4":
+            lines.pop()
+        for _, line in lines:
+            m = BRANCH.match(line)
+            if m and m.group(2) != func and not m.group(2).startswith("$"):
+                calls[func].add(m.group(2))
+            elif INDIRECT.match(line):
+                indirect[func].append(line.strip())
+
+    pending = []
     for line in text.splitlines():
         m = HEAD.match(line)
         if m:
             name = m.group(2)
             if not name.startswith("$"):  # $t/$d are mapping symbols inside a function
+                if func is not None:
+                    body(pending)
+                pending = []
                 func = name
                 start[func] = int(m.group(1), 16)
                 calls.setdefault(func, set())
@@ -44,15 +65,15 @@ def main():
             continue
         if func is None:
             continue
-        m = BRANCH.match(line)
-        if m and m.group(2) != func and not m.group(2).startswith("$"):
-            calls[func].add(m.group(2))
-        elif INDIRECT.match(line):
-            indirect[func].append(line.strip())
+        r = RAW.match(line)
+        if r:
+            pending.append((r.group(2).replace(" ", ""), r.group(1) + "\t" + r.group(3)))
+    if func is not None:
+        body(pending)
     # `pop {..., pc}` and `bx lr` are returns; a `blx`/`bx` through another register or a load
     # into pc is an indirect branch that the walk cannot follow, so it counts as a failure.
-    roots = [f for f in calls if any(r in f for r in ROOTS)]
-    if len(roots) != len(ROOTS):
+    roots = [f for f in calls if any(r in f for r in roots_wanted)]
+    if len(roots) != len(roots_wanted):
         print(f"error=render-path roots not found (found {roots})")
         return 2
     seen, todo = set(), list(roots)
