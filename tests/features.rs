@@ -27,4 +27,5 @@ fn the_small_types_are_defmt_format() {
     format::<microray::RenderOptions>();
     format::<microray::Encoding>();
     format::<microray::raster::PixelBox>();
+    format::<microray::output::Progress>();
 }
