@@ -12,7 +12,8 @@
 # seeded scenes of src/random_scenes.rs (scenes_differing=); the `displays` binary checks the
 # one-window, progressive and 1-bit/grey dithered draws (displays_ok=, src/bin/displays.rs). Exits non-zero when a CRC differs
 # from the one committed in src/scene.rs or src/random_scenes.rs, the panic check fails, (m4f) vsqrt.f32 is missing, or
-# a budget is broken: stack high-water (whole run or render passes) above 2 KiB on any build,
+# a budget is broken: stack high-water (whole run, render passes, or the display paths) above
+# 2 KiB on any build,
 # or (m4f) microray's flash above 16 KiB at opt "s" or more than 400 instructions a pixel at
 # opt 3.
 set -euo pipefail
@@ -85,6 +86,7 @@ run() { # $1 = cargo profile, $2 = key suffix
   sed "s/^\([A-Za-z0-9_]*\)=/\1$suffix=/" <<<"$displays"
   [ "$status" -eq 0 ] && grep -qx "displays_ok=1" <<<"$displays" || {
     echo "error$suffix=displays: a display path differs (qemu exit status $status)"; fail=1; }
+  within displays_stack_bytes "$(sed -n 's/^displays_stack_bytes=//p' <<<"$displays")" 2048
   python3 tools/panic_check.py "target/$target/$profile/displays" "$objdump" \
       plain_digest,progressive_digest,progressive_stopped,crc_binary,crc_gray4 \
     | sed -n "s/^render_path_\(panics\|flash_bytes\|indirect_calls\|panic\|indirect\)=/displays_path_\1$suffix=/p" \

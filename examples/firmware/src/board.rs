@@ -1,9 +1,11 @@
-//! What both firmware binaries (`firmware`, `numbench`) need from the board: an instruction
-//! clock (SysTick under QEMU `-icount`, calibrated against a loop of known length), exit to QEMU
-//! with a status, and fault and panic handlers that report and fail.
+//! What the firmware binaries need from the board: an instruction clock (SysTick under QEMU
+//! `-icount`, calibrated against a loop of known length), a painted stack to measure its
+//! high-water mark, exit to QEMU with a status, and fault and panic handlers that report and
+//! fail.
 
 use core::arch::asm;
 use core::panic::PanicInfo;
+use core::ptr::{addr_of, read_volatile, write_volatile};
 use core::sync::atomic::{AtomicU32, Ordering};
 
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
@@ -64,6 +66,45 @@ pub fn exit(ok: bool) -> ! {
     });
     #[allow(clippy::empty_loop)]
     loop {}
+}
+
+/// The pattern painted over the free stack.
+const PAINT: u32 = 0xC0DE_CAFE;
+
+extern "C" {
+    /// End of `.bss`/`.uninit` (cortex-m-rt): the lowest address the stack could grow to.
+    static __sheap: u32;
+    /// The initial stack pointer (cortex-m-rt): the top of RAM.
+    static _stack_start: u32;
+}
+
+/// Paints the unused stack, from the end of the statics up to 64 bytes below this function's
+/// own stack pointer.
+// Not every binary measures its stack.
+#[allow(dead_code)]
+#[inline(never)]
+pub fn paint_stack() {
+    let bottom = addr_of!(__sheap) as usize;
+    let sp = cortex_m::register::msp::read() as usize;
+    let mut p = bottom;
+    while p + 64 < sp {
+        // SAFETY: [bottom, sp − 64) is RAM that nothing uses yet (below the live stack, above
+        // every static), and p is word-aligned.
+        unsafe { write_volatile(p as *mut u32, PAINT) };
+        p += 4;
+    }
+}
+
+/// Stack bytes ever used: from the top of RAM down to the deepest overwritten painted word.
+#[allow(dead_code)]
+pub fn stack_high_water() -> usize {
+    let (bottom, top) = (addr_of!(__sheap) as usize, addr_of!(_stack_start) as usize);
+    let mut p = bottom;
+    // SAFETY: reads of word-aligned RAM between the statics and the top of the stack.
+    while p < top && unsafe { read_volatile(p as *const u32) } == PAINT {
+        p += 4;
+    }
+    top - p
 }
 
 #[exception]

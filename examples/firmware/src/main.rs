@@ -21,14 +21,14 @@
 mod board;
 mod scene;
 
-use core::ptr::{addr_of, addr_of_mut, read_volatile, write_volatile};
+use core::ptr::addr_of_mut;
 
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 use embedded_graphics::pixelcolor::Rgb565;
 use microray::{Camera, Frame, FrameStorage};
 
-use board::{exit, start_clock, ticks};
+use board::{exit, paint_stack, stack_high_water, start_clock, ticks};
 use scene::{BenchScene, HEIGHT, LIGHTS, SPHERES, STRIP_ROWS, WIDTH};
 
 #[cfg(target_abi = "eabihf")]
@@ -45,42 +45,6 @@ static mut STORAGE: Storage = FrameStorage::new();
 /// The strip buffer: one `Rgb565` row, the firmware's only pixel memory (in `.bss`).
 static mut STRIP: [Rgb565; WIDTH as usize * STRIP_ROWS] =
     [Rgb565::new(0, 0, 0); WIDTH as usize * STRIP_ROWS];
-
-/// The pattern painted over the free stack.
-const PAINT: u32 = 0xC0DE_CAFE;
-
-extern "C" {
-    /// End of `.bss`/`.uninit` (cortex-m-rt): the lowest address the stack could grow to.
-    static __sheap: u32;
-    /// The initial stack pointer (cortex-m-rt): the top of RAM.
-    static _stack_start: u32;
-}
-
-/// Paints the unused stack, from the end of the statics up to 64 bytes below this function's
-/// own stack pointer.
-#[inline(never)]
-fn paint_stack() {
-    let bottom = addr_of!(__sheap) as usize;
-    let sp = cortex_m::register::msp::read() as usize;
-    let mut p = bottom;
-    while p + 64 < sp {
-        // SAFETY: [bottom, sp − 64) is RAM that nothing uses yet (below the live stack, above
-        // every static), and p is word-aligned.
-        unsafe { write_volatile(p as *mut u32, PAINT) };
-        p += 4;
-    }
-}
-
-/// Stack bytes ever used: from the top of RAM down to the deepest overwritten painted word.
-fn stack_high_water() -> usize {
-    let (bottom, top) = (addr_of!(__sheap) as usize, addr_of!(_stack_start) as usize);
-    let mut p = bottom;
-    // SAFETY: reads of word-aligned RAM between the statics and the top of the stack.
-    while p < top && unsafe { read_volatile(p as *const u32) } == PAINT {
-        p += 4;
-    }
-    top - p
-}
 
 /// Set-up failed (it cannot with this scene): report it and exit QEMU with a failure status.
 fn fail(what: &str, e: microray::Error) -> ! {
