@@ -26,5 +26,12 @@ for board in m4f m0; do
   examples/firmware/run.sh "$board"
 done
 
+# The published scenes people compare with (FTB's, tinyraytracer's): the host's CRCs on both
+# boards, and their instructions a pixel.
+for board in m4f m0; do
+  echo "== examples/firmware/figures.sh $board"
+  examples/firmware/figures.sh "$board"
+done
+
 echo "== cargo test --release --test firmware -- --include-ignored"
 cargo test --release --test firmware -- --include-ignored
