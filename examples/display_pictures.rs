@@ -91,7 +91,12 @@ impl Sheet {
         };
         for y in 0..H * ZOOM {
             for x in 0..W * ZOOM {
-                put(&mut self.img, x0 + x, y0 + y, px[((y / ZOOM) * W + x / ZOOM) as usize]);
+                put(
+                    &mut self.img,
+                    x0 + x,
+                    y0 + y,
+                    px[((y / ZOOM) * W + x / ZOOM) as usize],
+                );
             }
         }
         // The caption, drawn with embedded-graphics' own font into a strip.
@@ -101,7 +106,12 @@ impl Sheet {
         let _ = Text::new(caption, Point::new(2, 9), style).draw(&mut strip);
         for y in 0..CAPTION.min(H) {
             for x in 0..(W * ZOOM).min(W) {
-                put(&mut self.img, x0 + x, y0 + H * ZOOM + y, strip.px[(y * W + x) as usize]);
+                put(
+                    &mut self.img,
+                    x0 + x,
+                    y0 + H * ZOOM + y,
+                    strip.px[(y * W + x) as usize],
+                );
             }
         }
     }
