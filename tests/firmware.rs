@@ -67,8 +67,16 @@ fn host_display_paths_match_the_committed_values() {
     let (crc1, px1, win1) = displays::crc_binary(&frame);
     let (crc4, px4, win4) = displays::crc_gray4(&frame);
     assert_eq!((px1, win1, px4, win4), (n, 1, n, 1));
-    assert_eq!(crc1, displays::EXPECTED_CRC32_BINARY, "host crc32_binary={crc1:08x}");
-    assert_eq!(crc4, displays::EXPECTED_CRC32_GRAY4, "host crc32_gray4={crc4:08x}");
+    assert_eq!(
+        crc1,
+        displays::EXPECTED_CRC32_BINARY,
+        "host crc32_binary={crc1:08x}"
+    );
+    assert_eq!(
+        crc4,
+        displays::EXPECTED_CRC32_GRAY4,
+        "host crc32_gray4={crc4:08x}"
+    );
 }
 
 /// Every seeded scene builds, renders the brute-force pixels, and has the CRC committed in
