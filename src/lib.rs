@@ -39,6 +39,12 @@
 //! # Ok::<(), microray::Error>(())
 //! ```
 //!
+//! On a display, [`Frame::draw`] streams the frame in one window with no buffer at all, a
+//! [`Frame`] is an embedded-graphics image (`Image::new(&frame, point)`), and
+//! [`Frame::draw_progressive`] shows a coarse image first on chips that take seconds a frame;
+//! [`Frame::draw_dithered`] keeps gradients on 16-bit, grey and 1-bit displays
+//! ([`output::Dither`]).
+//!
 //! ## On a desktop: a scene file in, an image out
 //!
 //! With the `scene-file` feature; the repository's `render` example does this on all cores
