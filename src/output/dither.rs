@@ -36,9 +36,11 @@ fn luma256(c: Rgb888) -> u32 {
     77 * c.r() as u32 + 150 * c.g() as u32 + 29 * c.b() as u32
 }
 
-/// A display colour that an `Rgb888` pixel can be ordered-dithered to (see the [module
-/// docs](self)); implemented for the colour types of embedded-graphics that have fewer levels
-/// than `Rgb888`, and for `Rgb888` itself (unchanged). [`Frame::draw_dithered`] and
+/// A display colour that an `Rgb888` pixel can be ordered-dithered to: 4×4 Bayer thresholds,
+/// so that a pixel rounds up or down by its place in a tile and each tile averages to the
+/// colour. Implemented for the colour types of embedded-graphics that have fewer levels than
+/// `Rgb888` (grey from BT.601 luma, embedded-graphics' weights, unrounded), and for `Rgb888`
+/// itself (unchanged). Integer-only: the same bits on every target. [`Frame::draw_dithered`] and
 /// [`Frame::render_rows_dithered`] use it; a display colour of your own needs one impl.
 ///
 /// [`Frame::draw_dithered`]: crate::Frame::draw_dithered
