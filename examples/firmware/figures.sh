@@ -27,14 +27,8 @@ case "${1:-}" in
 esac
 cd "$here"
 
-command -v qemu-system-arm >/dev/null || { echo "error=qemu-system-arm not found" >&2; exit 3; }
-objdump=${OBJDUMP:-}
-if [ -z "$objdump" ]; then
-  for c in llvm-objdump "$(rustc --print sysroot)"/lib/rustlib/*/bin/llvm-objdump arm-none-eabi-objdump; do
-    if command -v "$c" >/dev/null 2>&1; then objdump=$c; break; fi
-  done
-fi
-[ -n "$objdump" ] || { echo "error=no objdump (install llvm or binutils-arm-none-eabi)" >&2; exit 3; }
+# QEMU, and $objdump for the panic check.
+source tools/tools.sh
 
 cargo build --quiet --release --target "$target" --bin figures
 elf=${CARGO_TARGET_DIR:-target}/$target/release/figures

@@ -26,15 +26,8 @@ case "${1:-}" in
 esac
 cd "$here"
 
-command -v qemu-system-arm >/dev/null || { echo "error=qemu-system-arm not found" >&2; exit 3; }
-# An objdump for the panic check: $OBJDUMP, LLVM's (PATH or rustup's llvm-tools), or GNU's.
-objdump=${OBJDUMP:-}
-if [ -z "$objdump" ]; then
-  for c in llvm-objdump "$(rustc --print sysroot)"/lib/rustlib/*/bin/llvm-objdump arm-none-eabi-objdump; do
-    if command -v "$c" >/dev/null 2>&1; then objdump=$c; break; fi
-  done
-fi
-[ -n "$objdump" ] || { echo "error=no objdump (install llvm or binutils-arm-none-eabi)" >&2; exit 3; }
+# QEMU, and $objdump for the panic check.
+source tools/tools.sh
 
 expected=$(sed -n 's/^pub const EXPECTED_CRC32: u32 = 0x\([0-9a-f]*\);/\1/p' src/scene.rs)
 fail=0
