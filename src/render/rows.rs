@@ -167,6 +167,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             frame: self,
             i0,
             i1,
+            step: 1,
             next_row: if i0 < i1 { j0 } else { j1 },
             end_row: j1,
             j: j0,
@@ -381,9 +382,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
 #[derive(Debug)]
 pub struct Pixels<'f, 'a, const S: usize, const L: usize> {
     pub(super) frame: &'f Frame<'a, S, L>,
-    /// The columns `i0..i1`.
+    /// The columns `i0..i1`, every `step`-th.
     i0: u32,
     i1: u32,
+    step: u32,
     /// The rows still to start, `next_row..end_row`.
     next_row: u32,
     end_row: u32,
@@ -397,7 +399,17 @@ impl<const S: usize, const L: usize> Pixels<'_, '_, S, L> {
     /// Column and row of the pixel that `next` returned last (meaningless before the first).
     #[inline]
     pub(crate) fn last_position(&self) -> (u32, u32) {
-        (self.i.wrapping_sub(1), self.j)
+        (self.i.wrapping_sub(self.step), self.j)
+    }
+
+    /// From now on every `step`-th pixel of each row (`step` ≥ 1; set before the first
+    /// `next`), each traced with the row's culling: every span they fall in is gathered whole
+    /// (its primary rays, hit groups and shadow lists), so a small `step` costs little beyond
+    /// the pixels themselves. (Set on a `Pixels` already built, not passed to a constructor
+    /// of its own: one place builds the large value in place.)
+    #[inline]
+    pub(crate) fn set_step(&mut self, step: u32) {
+        self.step = step.max(1);
     }
 
     /// Starts the next row; false when none is left.
@@ -424,13 +436,16 @@ impl<const S: usize, const L: usize> Iterator for Pixels<'_, '_, S, L> {
             return None;
         }
         let px = self.frame.row_pixel(self.j, self.i, &mut self.cull);
-        self.i += 1;
+        self.i += self.step;
         Some(px)
     }
 
     fn size_hint(&self) -> (usize, Option<usize>) {
+        // `step` ≥ 1; `checked_div` links no panic. `i` may pass `i1` by less than a step.
+        let step = self.step as usize;
+        let count = |n: u32| (n as usize + step - 1).checked_div(step).unwrap_or(0);
         let rows = (self.end_row - self.next_row) as usize;
-        let n = (self.i1 - self.i) as usize + rows * (self.i1 - self.i0) as usize;
+        let n = count(self.i1.saturating_sub(self.i)) + rows * count(self.i1 - self.i0);
         (n, Some(n))
     }
 }
