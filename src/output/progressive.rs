@@ -11,7 +11,7 @@
 //! How a row of samples is traced depends on how far apart they are: a row of new pixels is
 //! streamed as `draw` streams it; samples 2 or 4 apart go through the same pipeline with a
 //! step (`Pixels::set_step`), whose spans are gathered whole, so their shadow rays get the
-//! span's lists for a quarter to a half of the span's primary rays wasted; samples 8
+//! span's lists, at the cost of primary rays for the skipped columns; samples 8
 //! apart are traced one at a time (`Frame::pixel`: primary rays culled by the boxes, shadow rays
 //! against every sphere), where a whole span would cost more than it saves.
 
