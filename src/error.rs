@@ -58,6 +58,13 @@ pub enum Error {
     InvalidMaxDepth,
     /// A pixel buffer whose length is not a whole number of rows inside the image.
     BufferSize,
+    /// A keyframe time that is NaN, outside [0, 1], not after the previous key's, or a first
+    /// key not at 0.
+    InvalidKeyframe,
+    /// More keyframes than the capacity.
+    TooManyKeyframes,
+    /// An animation by keyframes with fewer than two.
+    TooFewKeyframes,
 }
 
 impl fmt::Display for Error {
@@ -79,6 +86,11 @@ impl fmt::Display for Error {
             Error::InvalidSamples => "samples must be in 1..=16",
             Error::InvalidMaxDepth => "max_depth must be in 0..=16",
             Error::BufferSize => "buffer length must be a whole number of rows inside the image",
+            Error::InvalidKeyframe => {
+                "keyframe times must start at 0, increase, and stay within [0, 1]"
+            }
+            Error::TooManyKeyframes => "more keyframes than the capacity",
+            Error::TooFewKeyframes => "an animation by keyframes needs at least two",
         })
     }
 }

@@ -126,6 +126,7 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod animation;
 pub mod camera;
 pub mod error;
 pub mod geometry;

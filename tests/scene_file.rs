@@ -1,7 +1,7 @@
 //! The scene format: what it accepts, and a clear error naming field and line for everything it
 //! rejects. The desktop renderer calls the same `scene_file::load`.
 
-use microray::scene_file::{parse, Desktop};
+use microray::scene_file::{parse, Desktop, KEYFRAMES};
 use microray::{Color, Encoding, Light, Vec3};
 
 const CAMERA: &str = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n";
@@ -467,4 +467,93 @@ fn syntax_errors_have_a_line() {
     );
     let err = parse_desktop("[camera]\neye = [0, 0, 5\nlook_at = [0, 0, 0]\n").unwrap_err();
     assert!(err.line.is_some(), "{err}");
+}
+
+#[test]
+fn keyframe_fields() {
+    // No keyframes: none. Two: their fields default to the camera's.
+    assert!(parse_desktop(CAMERA).unwrap().keyframes.keys().is_empty());
+    let text =
+        format!("{CAMERA}[[keyframe]]\nat = 0\n[[keyframe]]\nat = 1\neye = [5, 0, 0]\nvfov = 30\n");
+    let f = parse_desktop(&text).unwrap();
+    let keys = f.keyframes.keys();
+    assert_eq!(keys.len(), 2);
+    assert_eq!(keys[0].view, f.view);
+    assert_eq!(keys[1].view.eye, Vec3::new(5.0, 0.0, 0.0));
+    assert_eq!(
+        (keys[1].view.look_at, keys[1].view.up, keys[1].view.vfov),
+        (f.view.look_at, f.view.up, 30.0)
+    );
+    assert_eq!(
+        f.keyframes.view(1, 3).unwrap().vfov,
+        f.view.vfov * 0.5 + 15.0
+    );
+
+    let key = |at: &str| format!("[[keyframe]]\nat = {at}\n");
+    // A single key is no animation.
+    rejects(&key("0"), 4, "keyframe", "at least two");
+    // Times: from 0, increasing, within [0, 1], finite.
+    rejects(
+        &format!("{}{}", key("0.1"), key("1")),
+        5,
+        "keyframe[0].at",
+        "start at 0",
+    );
+    rejects(
+        &format!("{}{}", key("0"), key("nan")),
+        7,
+        "keyframe[1].at",
+        "increase",
+    );
+    rejects(
+        &format!("{}{}", key("0"), key("0")),
+        7,
+        "keyframe[1].at",
+        "increase",
+    );
+    rejects(
+        &format!("{}{}", key("0"), key("1.5")),
+        7,
+        "keyframe[1].at",
+        "[0, 1]",
+    );
+    // A key's view must make a camera, and its fields must be finite numbers.
+    rejects(
+        &format!(
+            "{}{}look_at = [0, 0, 5]\neye = [0, 0, 5]\n",
+            key("0"),
+            key("1")
+        ),
+        8,
+        "keyframe[1].look_at",
+        "must differ",
+    );
+    rejects(
+        &format!("{}{}vfov = 180\n", key("0"), key("1")),
+        8,
+        "keyframe[1].vfov",
+        "(0, 180)",
+    );
+    rejects(
+        &format!("{}{}up = [0, 0, 1]\n", key("0"), key("1")),
+        8,
+        "keyframe[1].up",
+        "parallel",
+    );
+    rejects(
+        &format!("{}{}eye = [nan, 0, 0]\n", key("0"), key("1")),
+        8,
+        "keyframe[1].eye",
+        "finite",
+    );
+    // Unknown keys are errors, as in every table.
+    let err = parse_desktop(&format!("{CAMERA}{}time = 2\n{}", key("0"), key("1"))).unwrap_err();
+    assert!(err.to_string().contains("time"), "{err}");
+    // Past the capacity.
+    let many: String = (0..=KEYFRAMES)
+        .map(|k| key(&format!("{}", k as f32 / KEYFRAMES as f32)))
+        .collect();
+    let err = parse_desktop(&format!("{CAMERA}{many}")).unwrap_err();
+    assert_eq!(err.field.as_deref(), Some("keyframe"), "{err}");
+    assert!(err.message.contains("capacity"), "{err}");
 }

@@ -334,6 +334,8 @@ impl Builder<'_> {
                 .map_err(|e| self.err(l.span(), &format!("light[{i}]"), e))?;
         }
 
+        let keyframes = self.keyframes(&raw.keyframe, &view, (width, height))?;
+
         Ok(SceneFile {
             scene,
             camera,
@@ -341,6 +343,61 @@ impl Builder<'_> {
             width,
             height,
             options,
+            keyframes,
         })
+    }
+
+    /// The `[[keyframe]]` tables: none, or 2..=KEYFRAMES keys whose fields default to the
+    /// camera's, each a valid camera at the file's size.
+    fn keyframes(
+        &self,
+        raw: &[Spanned<RawKeyframe>],
+        camera: &View,
+        (width, height): (u32, u32),
+    ) -> Result<Keyframes<KEYFRAMES>, SceneError> {
+        let mut keys = Keyframes::new();
+        match raw {
+            [] => return Ok(keys),
+            [one] => return Err(self.err(one.span(), "keyframe", Error::TooFewKeyframes)),
+            _ if raw.len() > KEYFRAMES => {
+                let k = &raw[KEYFRAMES];
+                let n = raw.len();
+                let message = format!("{n} keyframes, more than the capacity of {KEYFRAMES}");
+                return Err(self.err(k.span(), "keyframe", message));
+            }
+            _ => {}
+        }
+        for (i, k) in raw.iter().enumerate() {
+            let f = |name: &str| format!("keyframe[{i}].{name}");
+            let r = k.get_ref();
+            let vector = |v: &Option<Spanned<Vector>>, name, default| match v {
+                Some(v) => self.vector(v, &f(name)),
+                None => Ok(default),
+            };
+            let view = View {
+                eye: vector(&r.eye, "eye", camera.eye)?,
+                look_at: vector(&r.look_at, "look_at", camera.look_at)?,
+                up: vector(&r.up, "up", camera.up)?,
+                vfov: match &r.vfov {
+                    Some(v) => self.num(v, &f("vfov"))?,
+                    None => camera.vfov,
+                },
+            };
+            // Where the key's own fields make no camera, say which.
+            let span = |v: Option<Range<usize>>| v.unwrap_or(k.span());
+            view.camera(width, height).map_err(|e| {
+                let (s, name) = match e {
+                    Error::EyeAtLookAt => (span(r.look_at.as_ref().map(|v| v.span())), "look_at"),
+                    Error::UpParallelToView => (span(r.up.as_ref().map(|v| v.span())), "up"),
+                    Error::InvalidFov => (span(r.vfov.as_ref().map(|v| v.span())), "vfov"),
+                    _ => (k.span(), ""),
+                };
+                self.err(s, f(name).trim_end_matches('.'), e)
+            })?;
+            let at = *r.at.get_ref() as f32;
+            keys.push(Keyframe { at, view })
+                .map_err(|e| self.err(r.at.span(), &f("at"), e))?;
+        }
+        Ok(keys)
     }
 }

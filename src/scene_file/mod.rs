@@ -15,6 +15,11 @@
 //! [[light]]           # kind = "point" + position, or kind = "directional" + direction (≠ 0);
 //! kind = "point"      # intensity = 1
 //! position = [3, 5, 4]
+//! [[keyframe]]        # optional, none or 2..=64: at (0 first, increasing, ≤ 1) required;
+//! at = 0.0            # eye, look_at, up and vfov default to the camera's. The renderer's
+//! [[keyframe]]        # --frames N interpolates them linearly (frame k at k / (N − 1)).
+//! at = 1.0
+//! eye = [4, 1, 4]
 //! ```
 //!
 //! Colours take `[r, g, b]` or one number for all three; integers and floats both work. Every
@@ -41,6 +46,7 @@ use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
 use toml::Spanned;
 
+use crate::animation::{Keyframe, Keyframes};
 use crate::camera::{Camera, MAX_SIZE};
 use crate::error::Error;
 use crate::geometry::Sphere;
@@ -72,34 +78,14 @@ pub struct SceneFile<const S: usize, const L: usize> {
     pub height: u32,
     /// Samples and encoding.
     pub options: RenderOptions,
+    /// The camera's keyframes, if the file has any (then at least two).
+    pub keyframes: Keyframes<KEYFRAMES>,
 }
 
-/// The camera's placement, independent of the image size.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct View {
-    /// The eye point.
-    pub eye: Vec3,
-    /// The point looked at.
-    pub look_at: Vec3,
-    /// The up direction.
-    pub up: Vec3,
-    /// Full vertical field of view in degrees.
-    pub vfov: f32,
-}
+pub use crate::animation::View;
 
-impl View {
-    /// The camera for a `width` × `height` image.
-    ///
-    /// ```
-    /// # use microray::scene_file::parse;
-    /// let file = parse::<4, 1>("[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n")?;
-    /// assert_eq!(file.view.camera(32, 16)?.width(), 32);
-    /// # Ok::<(), Box<dyn std::error::Error>>(())
-    /// ```
-    pub fn camera(&self, width: u32, height: u32) -> Result<Camera, Error> {
-        Camera::new(self.eye, self.look_at, self.up, self.vfov, width, height)
-    }
-}
+/// The keyframe capacity of a scene file.
+pub const KEYFRAMES: usize = 64;
 
 /// Why a scene file was rejected: where (file, line), which field, and what is wrong.
 #[derive(Debug, Clone, PartialEq, Eq)]

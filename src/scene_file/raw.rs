@@ -11,6 +11,18 @@ pub(super) struct RawFile {
     pub(super) sphere: Vec<Spanned<RawSphere>>,
     #[serde(default)]
     pub(super) light: Vec<Spanned<RawLight>>,
+    #[serde(default)]
+    pub(super) keyframe: Vec<Spanned<RawKeyframe>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawKeyframe {
+    pub(super) at: Spanned<f64>,
+    pub(super) eye: Option<Spanned<Vector>>,
+    pub(super) look_at: Option<Spanned<Vector>>,
+    pub(super) up: Option<Spanned<Vector>>,
+    pub(super) vfov: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
