@@ -1,70 +1,12 @@
 //! The desktop renderer as a user runs it: output, exit codes, and that a failure never leaves
 //! a PNG behind or touches an existing one.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-use std::sync::OnceLock;
+use std::process::Command;
 
-/// The renderer, built from the current source with this test's profile (and target, features
-/// and environment), once per run. `cargo test` builds the examples too, but `cargo test --test
-/// cli` does not, and whatever binary an earlier build left would be tested in its place.
-fn renderer() -> PathBuf {
-    static BUILT: OnceLock<PathBuf> = OnceLock::new();
-    BUILT.get_or_init(build_renderer).clone()
-}
-
-fn build_renderer() -> PathBuf {
-    // This test runs from <target dir>[/<triple>]/<profile dir>/deps/; cargo marks the target
-    // dir with CACHEDIR.TAG.
-    let exe = std::env::current_exe().unwrap();
-    let profile_dir = exe.parent().and_then(Path::parent).unwrap();
-    let target_dir = profile_dir
-        .ancestors()
-        .skip(1)
-        .find(|d| d.join("CACHEDIR.TAG").is_file())
-        .unwrap_or_else(|| panic!("no target dir above {}", profile_dir.display()));
-    let profile = match profile_dir.file_name().and_then(|n| n.to_str()) {
-        Some("debug") => "dev",
-        Some(name) => name,
-        None => panic!("{}: no profile", profile_dir.display()),
-    };
-    let mut cargo = Command::new(std::env::var_os("CARGO").unwrap_or("cargo".into()));
-    cargo
-        .args(["build", "--example", "render", "--features", "scene-file"])
-        .args(["--profile", profile])
-        .arg("--manifest-path")
-        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml"))
-        .arg("--target-dir")
-        .arg(target_dir);
-    let triple = profile_dir.parent().filter(|&d| d != target_dir);
-    if let Some(triple) = triple.and_then(Path::file_name) {
-        cargo.arg("--target").arg(triple);
-    }
-    let built = cargo.output().unwrap();
-    assert!(
-        built.status.success(),
-        "building the renderer failed:\n{}",
-        String::from_utf8_lossy(&built.stderr)
-    );
-    profile_dir
-        .join("examples")
-        .join(format!("render{}", std::env::consts::EXE_SUFFIX))
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(renderer()).args(args).output().unwrap()
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("microray-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use common::cli::{fails, fails_as, renderer, run, scratch, stderr};
 
 #[test]
 fn renders_a_scene_and_reports_the_time() {
@@ -144,47 +86,6 @@ fn the_demo_renders_without_a_scene() {
     assert!(out.exists());
 }
 
-/// Fails with `code`, one line on stderr naming `needle`, no PNG created, an existing one kept.
-fn fails(dir: &Path, args: &[&str], code: i32, needle: &str) {
-    fails_as(dir, args, code, needle, run);
-}
-
-/// `fails`, with the renderer started by `start` (given the arguments with `-o`).
-fn fails_as(
-    dir: &Path,
-    args: &[&str],
-    code: i32,
-    needle: &str,
-    start: impl FnOnce(&[&str]) -> Output,
-) {
-    let out = dir.join("keep.png");
-    std::fs::write(&out, b"precious").unwrap();
-    let mut all: Vec<&str> = args.to_vec();
-    all.extend(["-o", out.to_str().unwrap()]);
-    let o = start(&all);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(code), "{args:?}: {err}");
-    assert!(
-        err.contains(needle),
-        "{args:?}: {err:?} should mention {needle:?}"
-    );
-    assert!(
-        !err.contains("panicked") && !err.contains("backtrace"),
-        "{err}"
-    );
-    assert_eq!(
-        std::fs::read(&out).unwrap(),
-        b"precious",
-        "{args:?} touched the existing file"
-    );
-    let others: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name())
-        .filter(|n| n != "keep.png" && !n.to_string_lossy().ends_with(".toml"))
-        .collect();
-    assert!(others.is_empty(), "{args:?} left files behind: {others:?}");
-}
-
 #[test]
 fn invalid_input_exits_2_and_writes_nothing() {
     let dir = scratch("bad");
@@ -254,7 +155,7 @@ fn an_output_of_another_format_is_an_error() {
     let dir = scratch("format");
     for (name, ext) in [
         ("out.jpg", ".jpg"),
-        ("out.png.gif", ".gif"),
+        ("out.png.bmp", ".bmp"),
         ("a.b/out.webp", ".webp"),
     ] {
         let out = dir.join(name);

@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests: rendering scene files and comparing images.
 #![allow(dead_code)]
 
+pub mod cli;
 pub mod rng;
 
 /// The conformance scenes in tests/data (NAME.toml with its expected NAME.png).

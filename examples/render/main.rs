@@ -1,10 +1,12 @@
-//! microray's desktop renderer: a TOML scene in, a PNG out.
+//! microray's desktop renderer: a TOML scene in, a PNG out, or an animation.
 //!
-//! `cargo run --release --example render -- [SCENE.toml] [-o OUT.png] [--width N] [--height N]
-//! [--samples N] [--threads N]`
+//! `cargo run --release --example render -- [SCENE.toml] [-o OUT.png|OUT.gif] [--width N]
+//! [--height N] [--samples N] [--threads N] [--frames N [--orbit DEGREES]]`
 //!
-//! Exit codes: 0 done, 1 an I/O failure, 2 invalid input. On any failure no PNG is written and
-//! an existing file at the output path is left untouched.
+//! Exit codes: 0 done, 1 an I/O failure, 2 invalid input. On any failure no file is written
+//! and an existing file at the output path is left untouched.
+
+mod animation;
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -18,7 +20,9 @@ use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use microray::scene_file::{self, Desktop};
 use microray::{Frame, FrameStorage, RenderOptions};
 
-const DEMO: &str = include_str!("scenes/demo.toml");
+use animation::{Encoder, Format, Path as CameraPath};
+
+const DEMO: &str = include_str!("../scenes/demo.toml");
 
 /// Renders a microray scene file to a PNG.
 #[derive(Parser)]
@@ -41,13 +45,35 @@ struct Args {
     /// Threads rendering bands of rows in parallel (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// Renders an animation of N frames (an animated PNG, or a GIF for a .gif output): the
+    /// scene's keyframes if it has any, else an orbit about the look-at point.
+    #[arg(long, allow_negative_numbers = true)]
+    frames: Option<u32>,
+    /// The orbit's turn over all frames, in degrees (default 360; needs --frames).
+    #[arg(long, allow_negative_numbers = true)]
+    orbit: Option<f32>,
 }
 
 /// A failure and its exit code.
 struct Failure(u8, String);
 
 fn main() -> ExitCode {
-    match run(Args::parse()) {
+    let args = match Args::try_parse() {
+        Ok(args) => args,
+        Err(e) if !e.use_stderr() => {
+            // --help, --version: clap's own text, on stdout.
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        Err(e) => {
+            // One line, as every other error: clap's first, without its usage and hints.
+            let text = e.to_string();
+            let line = text.lines().next().unwrap_or("invalid arguments");
+            eprintln!("error: {}", line.trim_start_matches("error: "));
+            return ExitCode::from(2);
+        }
+    };
+    match run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure(code, msg)) => {
             eprintln!("error: {msg}");
@@ -79,8 +105,37 @@ fn run(args: Args) -> Result<(), Failure> {
         Some(n) => n,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
-    check_format(&args.output)?;
+    let format = check_format(&args.output)?;
+    let path = match (args.frames, args.orbit) {
+        (None, Some(_)) => return Err(Failure(2, "--orbit: needs --frames".into())),
+        (Some(0), _) => return Err(Failure(2, "--frames: must be at least 1".into())),
+        (_, Some(d)) if !d.is_finite() => {
+            return Err(Failure(
+                2,
+                format!("--orbit: must be a finite number, not {d}"),
+            ))
+        }
+        (Some(_), Some(_)) if !file.keyframes.keys().is_empty() => {
+            return Err(Failure(
+                2,
+                "--orbit: the scene has keyframes, which set the camera of every frame".into(),
+            ))
+        }
+        (Some(_), None) if !file.keyframes.keys().is_empty() => Some(CameraPath::Keyframes(&file)),
+        (Some(_), degrees) => Some(CameraPath::Orbit(microray::animation::Orbit {
+            view: file.view,
+            degrees: degrees.unwrap_or(360.0),
+        })),
+        // A still written as GIF: a one-frame animation.
+        (None, None) if format == Format::Gif => Some(CameraPath::Still(file.view)),
+        (None, None) => None,
+    };
     output_target(&args.output)?;
+    if let Some(path) = path {
+        let frames = args.frames.unwrap_or(1);
+        let cameras = path.cameras(frames, (width, height))?;
+        return animate(&args, &file, &cameras, (options, threads), format);
+    }
 
     // The image the bands are rendered into, allocated and written before the clock starts:
     // the kernel maps a fresh page at its first write (~3 µs a page on this VM, ~1 ms for a
@@ -91,7 +146,9 @@ fn run(args: Args) -> Result<(), Failure> {
     let mut image = image_buffer(width as usize * height as usize)?;
     let alloc_ms = alloc.elapsed().as_secs_f64() * 1e3;
 
-    let (ms, pool_ms) = render(&file.scene, &camera, options, threads, &mut image)?;
+    let (ms, pool_ms) = with_progress(height, |done| {
+        render(&file.scene, &camera, options, threads, &mut image, done)
+    })?;
 
     write_png(&args.output, width, height, &image)?;
     println!("wrote {} ({width}x{height})", args.output.display());
@@ -103,11 +160,46 @@ fn run(args: Args) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Renders one frame per camera, encodes them as they come, and writes the file at the end.
+fn animate(
+    args: &Args,
+    file: &Desktop,
+    cameras: &[microray::Camera],
+    (options, threads): (RenderOptions, usize),
+    format: Format,
+) -> Result<(), Failure> {
+    let Some(first) = cameras.first() else {
+        return Err(Failure(2, "--frames: must be at least 1".into()));
+    };
+    let size = (first.width(), first.height());
+    let mut image = image_buffer(size.0 as usize * size.1 as usize)?;
+    let mut encoder = Encoder::new(format, cameras.len() as u32, size)?;
+    let mut times = Vec::with_capacity(cameras.len());
+    with_progress(size.1 * cameras.len() as u32, |done| {
+        for camera in cameras {
+            let (ms, _) = render(&file.scene, camera, options, threads, &mut image, done)?;
+            times.push(ms);
+            encoder.frame(size, &image)?;
+        }
+        Ok(())
+    })?;
+    let bytes = encoder.finish()?;
+    write_file(&args.output, bytes)?;
+    let (w, h) = size;
+    println!(
+        "wrote {} ({w}x{h}, {} frames)",
+        args.output.display(),
+        cameras.len()
+    );
+    println!("render per frame: {}", animation::summary(&times));
+    Ok(())
+}
+
 /// The desktop capacity of `Desktop` scenes.
 type DeskFrame<'a> = Frame<'a, 1024, 32>;
 
-/// Renders `image` in bands of rows on `threads` threads through the library's band API, with a
-/// progress bar on a terminal once the render takes more than a second. Returns the `render:`
+/// Renders `image` in bands of rows on `threads` threads through the library's band API,
+/// counting the rows done in `done` (for the progress bar). Returns the `render:`
 /// time in ms, from the start of `Frame::new` to the last band written, and for several threads
 /// the time it took to start them, which comes before that clock.
 ///
@@ -129,6 +221,7 @@ fn render(
     options: RenderOptions,
     threads: usize,
     image: &mut [Rgb888],
+    done: &AtomicU32,
 ) -> Result<(f64, Option<f64>), Failure> {
     let (w, h) = (camera.width() as usize, camera.height() as usize);
     let failed = |e: microray::Error| Failure(2, format!("--samples: {e}"));
@@ -136,9 +229,6 @@ fn render(
     // tall as the renderer's tiles (8 rows, whose shadow lists `render_rows` builds once).
     let band_rows = 8;
     let bands = Mutex::new(image.chunks_mut(w * band_rows).enumerate());
-    let done = AtomicU32::new(0);
-    let finished = AtomicBool::new(false);
-    let show = std::io::stderr().is_terminal();
     let work = |frame: &DeskFrame<'_>| loop {
         let next = bands.lock().unwrap_or_else(|e| e.into_inner()).next();
         let Some((b, band)) = next else { break };
@@ -155,15 +245,6 @@ fn render(
     let left = AtomicUsize::new(workers);
     let waiter = std::thread::current();
     std::thread::scope(|s| {
-        let bar = show.then(|| s.spawn(|| progress(&done, &finished, h as u32)));
-        // Stops the progress thread however this scope is left (an error, a worker's panic),
-        // and at once rather than after its sleep, which would be counted in the render time.
-        let _stop_bar = Finally(|| {
-            finished.store(true, Ordering::Relaxed);
-            if let Some(bar) = &bar {
-                bar.thread().unpark();
-            }
-        });
         if threads == 1 {
             // The per-frame tables on the heap, allocated before the clock.
             let mut storage = Box::new(FrameStorage::new());
@@ -296,6 +377,26 @@ const WAIT: u8 = 0;
 const GO: u8 = 1;
 const STOP: u8 = 2;
 
+/// Runs `f` with a counter of rows done, shown as a progress bar of `total` rows on a terminal
+/// once the work takes more than a second.
+fn with_progress<T>(total: u32, f: impl FnOnce(&AtomicU32) -> T) -> T {
+    let done = AtomicU32::new(0);
+    let finished = AtomicBool::new(false);
+    let show = std::io::stderr().is_terminal();
+    std::thread::scope(|s| {
+        let bar = show.then(|| s.spawn(|| progress(&done, &finished, total)));
+        // Stops the progress thread however this scope is left (an error, a worker's panic),
+        // and at once rather than after its sleep, which would be counted in the render time.
+        let _stop_bar = Finally(|| {
+            finished.store(true, Ordering::Relaxed);
+            if let Some(bar) = &bar {
+                bar.thread().unpark();
+            }
+        });
+        f(&done)
+    })
+}
+
 fn progress(done: &AtomicU32, finished: &AtomicBool, total: u32) {
     let start = Instant::now();
     let mut shown = false;
@@ -307,8 +408,9 @@ fn progress(done: &AtomicU32, finished: &AtomicBool, total: u32) {
         if start.elapsed() < Duration::from_secs(1) {
             continue;
         }
-        let d = done.load(Ordering::Relaxed);
-        let filled = (40 * d / total) as usize;
+        let d = done.load(Ordering::Relaxed) as u64;
+        let total = total.max(1) as u64;
+        let filled = (40 * d / total).min(40) as usize;
         eprint!(
             "\r[{}{}] {:3}%",
             "#".repeat(filled),
@@ -333,14 +435,20 @@ fn image_buffer(n: usize) -> Result<Vec<Rgb888>, Failure> {
     Ok(v)
 }
 
-/// Writes to a temporary file beside `out`, then renames it: a failed write leaves no PNG and
-/// never touches an existing file.
+/// Writes the PNG of `image` to `out` ([`write_file`]).
 fn write_png(out: &Path, w: u32, h: u32, image: &[Rgb888]) -> Result<(), Failure> {
+    output_target(out)?;
+    let png = encode_png(w, h, image)?;
+    write_file(out, png)
+}
+
+/// Writes `bytes` to a temporary file beside `out`, then renames it: a failed write leaves no
+/// file and never touches an existing one.
+fn write_file(out: &Path, bytes: Vec<u8>) -> Result<(), Failure> {
     let io = |e: &dyn std::fmt::Display| Failure(1, format!("{}: {e}", out.display()));
     let target = output_target(out)?;
-    let png = encode_png(w, h, image)?;
     let name = target.file_name().ok_or_else(|| io(&"not a file name"))?;
-    // Written beside the file it replaces and renamed over it: never a partial PNG under the
+    // Written beside the file it replaces and renamed over it: never a partial file under the
     // output's name, whatever stops the write.
     let tmp = target.with_file_name(format!(
         ".{}.{}.tmp",
@@ -350,10 +458,10 @@ fn write_png(out: &Path, w: u32, h: u32, image: &[Rgb888]) -> Result<(), Failure
     let existing = std::fs::metadata(&target).ok();
     if existing.as_ref().is_some_and(|m| !m.is_file()) {
         // A device or a pipe (`/dev/stdout`, `/dev/full`): written to, never replaced.
-        return std::fs::write(&target, png).map_err(|e| io(&e));
+        return std::fs::write(&target, bytes).map_err(|e| io(&e));
     }
     let keep_mode = existing.map(|m| m.permissions());
-    let result = std::fs::write(&tmp, png)
+    let result = std::fs::write(&tmp, bytes)
         .and_then(|()| match keep_mode {
             Some(mode) => std::fs::set_permissions(&tmp, mode),
             None => Ok(()),
@@ -366,19 +474,21 @@ fn write_png(out: &Path, w: u32, h: u32, image: &[Rgb888]) -> Result<(), Failure
     Ok(())
 }
 
-/// The renderer writes PNG: an output named for another format is invalid input, not a PNG
-/// under a misleading name. A path without an extension (a device such as `/dev/stdout`) gets
-/// PNG too.
-fn check_format(out: &Path) -> Result<(), Failure> {
+/// The output's format, by its extension: PNG (`.png`, or no extension, as a device such as
+/// `/dev/stdout` has) or GIF (`.gif`). Any other is invalid input, not a file under a
+/// misleading name.
+fn check_format(out: &Path) -> Result<Format, Failure> {
     match out.extension().map(|e| e.to_string_lossy()) {
-        Some(ext) if !ext.eq_ignore_ascii_case("png") => Err(Failure(
+        None => Ok(Format::Png),
+        Some(ext) if ext.eq_ignore_ascii_case("png") => Ok(Format::Png),
+        Some(ext) if ext.eq_ignore_ascii_case("gif") => Ok(Format::Gif),
+        Some(ext) => Err(Failure(
             2,
             format!(
-                "{}: cannot write .{ext} images (the output is PNG: name it .png)",
+                "{}: cannot write .{ext} images (name it .png, or .gif for a GIF)",
                 out.display()
             ),
         )),
-        _ => Ok(()),
     }
 }
 
