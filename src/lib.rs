@@ -7,7 +7,7 @@
 //! square root, no fused multiply-add) in which the renderer traces four primary rays at once.
 //!
 //! The layers, each one module: [`math`] → `simd` (the vector lanes, hosts only) →
-//! [`geometry`] (rays, spheres, intersection) → [`scene`] → [`camera`] and [`raster`] (screen
+//! [`geometry`] (rays, spheres, intersection) → [`scene`] → [`camera`], [`animation`] and [`raster`] (screen
 //! bounds) → [`shading`] (the shading model, mirrors and glass) → [`render`] (frames, bands,
 //! pixels) → [`output`] (embedded-graphics displays). With the `scene-file` feature (std),
 //! [`scene_file`](scene_file/index.html) reads the TOML scene format. ARCHITECTURE.md in the
