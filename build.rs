@@ -1,5 +1,5 @@
-//! Sets `cfg(lanes)` on targets with f32 vector registers (x86-64, AArch64 with NEON), where
-//! the renderer traces primary rays several columns at a time, and `cfg(no_dirs)` on soft-float
+//! Sets `cfg(lanes)` on targets with f32 vector registers (x86-64, AArch64 with NEON, wasm32 with
+//! simd128), where the renderer traces primary rays several columns at a time, and `cfg(no_dirs)` on soft-float
 //! Arm (Cortex-M0), whose spans keep no view directions. Cargo.toml names the same targets for
 //! the `wide` dependency, which cannot use these cfgs.
 //!
@@ -17,14 +17,15 @@ fn main() {
     println!("cargo::rerun-if-env-changed=MICRORAY_HOST_AS");
     let env = |k: &str| std::env::var(k).unwrap_or_default();
     let (arch, abi) = (env("CARGO_CFG_TARGET_ARCH"), env("CARGO_CFG_TARGET_ABI"));
-    let neon = env("CARGO_CFG_TARGET_FEATURE")
-        .split(',')
-        .any(|f| f == "neon");
+    let features = env("CARGO_CFG_TARGET_FEATURE");
+    let feature = |name: &str| features.split(',').any(|f| f == name);
     let (lanes, no_dirs) = match env("MICRORAY_HOST_AS").as_str() {
         "m4f" => (false, false),
         "m0" => (false, true),
         "" => (
-            arch == "x86_64" || (arch == "aarch64" && neon),
+            arch == "x86_64"
+                || (arch == "aarch64" && feature("neon"))
+                || (arch == "wasm32" && feature("simd128")),
             arch == "arm" && abi != "eabihf",
         ),
         other => panic!("MICRORAY_HOST_AS={other}: expected m4f or m0"),
