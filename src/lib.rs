@@ -3,7 +3,7 @@
 //! A sphere ray tracer for microcontrollers that desktops can use too: `#![no_std]`, no heap,
 //! every float function from [`libm`] so that a Cortex-M computes the same pixels as the host.
 //! The exceptions are instructions that return the same bits: `vsqrt.f32` on a Cortex-M4F, and
-//! on x86-64 and AArch64 the vector lanes (`wide`'s f32x4: IEEE add, multiply, divide and
+//! on x86-64, AArch64 and wasm32 with simd128 the vector lanes (`wide`'s f32x4: IEEE add, multiply, divide and
 //! square root, no fused multiply-add) in which the renderer traces four primary rays at once.
 //!
 //! The layers, each one module: [`math`] → `simd` (the vector lanes, hosts only) →
@@ -107,7 +107,7 @@
 //! `build.rs` sets these from the target and the profile, never by hand; none changes a
 //! pixel (every target computes the same bits) or the API.
 //!
-//! - `lanes` on x86-64 and on AArch64 with NEON: primary rays, hit records and shading four
+//! - `lanes` on x86-64, on AArch64 with NEON and on wasm32 with simd128: primary rays, hit records and shading four
 //!   pixels at a time in vector registers (`wide`'s `f32x4`).
 //! - `no_dirs` on soft-float Arm (Cortex-M0): spans keep no view directions.
 //! - `size_opt` at opt-level `"s"` or `"z"`: the scalar path keeps its shading out of line.

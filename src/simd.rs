@@ -1,5 +1,5 @@
 //! The one place that chooses the lane backend: on hosts with f32 vector registers
-//! (`cfg(lanes)`, set by build.rs: x86-64, AArch64 with NEON) four lanes of `wide::f32x4`;
+//! (`cfg(lanes)`, set by build.rs: x86-64, AArch64 with NEON, wasm32 with simd128) four lanes of `wide::f32x4`;
 //! elsewhere none, and the code above runs its scalar path. Every lane operation is the IEEE
 //! operation of its scalar counterpart in the same order (no fused multiply-add), so a lane
 //! computes the scalar bits. The math traits (`Ieee`, `IeeeCmp`, `Ieee3`, `Byte`, in
