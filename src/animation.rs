@@ -73,8 +73,9 @@ impl View {
     }
 
     /// The view with the eye raised by `degrees` (lowered if negative) about the camera's
-    /// right axis through `look_at`; `up` stays, so a tilt past straight above or below makes
-    /// a view whose [`View::camera`] fails (`UpParallelToView`).
+    /// right axis through `look_at`; `up` stays. So a tilt to straight above or below makes a
+    /// view whose [`View::camera`] fails (`UpParallelToView`), and one past it a view from the
+    /// other side, upside down: a caller that steers by tilts should stop short of the pole.
     ///
     /// ```
     /// # use microray::{animation::View, Vec3};
