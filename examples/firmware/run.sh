@@ -39,13 +39,17 @@ within() { # $1 = key, $2 = measured value, $3 = budget; uses $suffix of the cal
   fi
 }
 
+qemu() { # $1 = ELF: runs it on the board, its semihosting output on stdout
+  timeout 900 qemu-system-arm "${machine[@]}" -nographic -monitor none -serial none \
+    -semihosting-config enable=on,target=native -icount shift=0 -kernel "$1"
+}
+
 run() { # $1 = cargo profile, $2 = key suffix
   local profile=$1 suffix=$2 out status
   cargo build --quiet --profile "$profile" --target "$target"
   local elf=target/$target/$profile/firmware
   set +e
-  out=$(timeout 900 qemu-system-arm "${machine[@]}" -nographic -monitor none -serial none \
-        -semihosting-config enable=on,target=native -icount shift=0 -kernel "$elf")
+  out=$(qemu "$elf")
   status=$?
   set -e
   # The firmware's own lines, with the suffix of this build.
@@ -56,9 +60,7 @@ run() { # $1 = cargo profile, $2 = key suffix
   # the firmware against the committed list.
   local scenes
   set +e
-  scenes=$(timeout 900 qemu-system-arm "${machine[@]}" -nographic -monitor none -serial none \
-        -semihosting-config enable=on,target=native -icount shift=0 \
-        -kernel "target/$target/$profile/scenes")
+  scenes=$(qemu "target/$target/$profile/scenes")
   status=$?
   set -e
   grep -v '^scene_crc=' <<<"$scenes" | sed "s/^\([A-Za-z0-9_]*\)=/\1$suffix=/"
@@ -71,9 +73,7 @@ run() { # $1 = cargo profile, $2 = key suffix
   # its early stop, and the 1-bit and grey dithered CRCs.
   local displays
   set +e
-  displays=$(timeout 900 qemu-system-arm "${machine[@]}" -nographic -monitor none -serial none \
-        -semihosting-config enable=on,target=native -icount shift=0 \
-        -kernel "target/$target/$profile/displays")
+  displays=$(qemu "target/$target/$profile/displays")
   status=$?
   set -e
   sed "s/^\([A-Za-z0-9_]*\)=/\1$suffix=/" <<<"$displays"
