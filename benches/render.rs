@@ -157,7 +157,7 @@ fn pixels(c: &mut Criterion) {
 
 fn target(c: &mut Criterion) {
     let file: Box<Desktop> =
-        Box::new(scene_file::parse(include_str!("../bench/scenes/target.toml")).unwrap());
+        scene_file::parse(include_str!("../bench/scenes/target.toml")).unwrap();
     let mut storage = Box::new(FrameStorage::new());
     let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage).unwrap();
     let (w, h) = (file.camera.width() as usize, file.camera.height() as usize);

@@ -20,7 +20,7 @@ fn main() -> Result<(), String> {
     let path = std::env::args()
         .nth(1)
         .ok_or("usage: instructions SCENE.toml")?;
-    let file = Box::new(scene_file::load(&path).map_err(|e| e.to_string())?);
+    let file = scene_file::load(&path).map_err(|e| e.to_string())?;
     let camera = file
         .view
         .camera(file.width, file.height)

@@ -741,7 +741,7 @@ fn main() {
     let ns = time_all(items, runs, &mut fs);
     // A second timing set, like the shadow rays of an ordinary scene: origins on the spheres of
     // tests/data/lit.toml, directions away from the surface.
-    let lit: Box<Desktop> = Box::new(scene_file::load("tests/data/lit.toml").unwrap());
+    let lit: Box<Desktop> = scene_file::load("tests/data/lit.toml").unwrap();
     let lit_spheres: Vec<Sphere> = lit.scene.spheres().to_vec();
     let mut g2 = Rng(SEED_SHADOW);
     let shadow_rays: Vec<(Vec3, Vec3, usize)> = (0..if quick { 2_000 } else { 20_000 })
@@ -989,7 +989,7 @@ fn main() {
     );
     // The secondary rays that rendering lit.toml (its sun) and mirror.toml (first bounces)
     // casts: the per-ray paths on the rays a renderer asks about.
-    let mirror: Box<Desktop> = Box::new(scene_file::load("tests/data/mirror.toml").unwrap());
+    let mirror: Box<Desktop> = scene_file::load("tests/data/mirror.toml").unwrap();
     assert_eq!(
         lit_spheres, LIT_SPHERES,
         "variants.rs's copy of tests/data/lit.toml"
@@ -1094,7 +1094,7 @@ fn main() {
         }
     }
     // The refracted rays of tests/data/glass.toml: host only (the firmware has no glass).
-    let glass: Box<Desktop> = Box::new(scene_file::load("tests/data/glass.toml").unwrap());
+    let glass: Box<Desktop> = scene_file::load("tests/data/glass.toml").unwrap();
     let rays = refracted_rays(&glass);
     let spheres = glass.scene.spheres();
     let tests = rays.len() * (spheres.len() - 1);
@@ -1276,8 +1276,7 @@ fn main() {
     let variants: [Isect; 4] = [textbook, geometric, hearn_baker, f64_c_per_ray];
     let mut fails = [0usize; 5];
     for name in &names {
-        let file: Box<Desktop> =
-            Box::new(scene_file::load(format!("tests/hard/{name}.toml")).unwrap());
+        let file: Box<Desktop> = scene_file::load(format!("tests/hard/{name}.toml")).unwrap();
         let mut storage = Box::new(microray::FrameStorage::new());
         let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage).unwrap();
         let reference = common::reference::Reference::new(&file);

@@ -58,7 +58,7 @@
 //! use microray::{Frame, FrameStorage};
 //!
 //! // Or scene_file::load("scene.toml"). Every error names the field (and line) at fault.
-//! let file: Desktop = scene_file::parse(
+//! let file: Box<Desktop> = scene_file::parse(
 //!     r#"
 //!     [camera]
 //!     eye = [0, 1, 6]

@@ -199,12 +199,11 @@ fn accelerated_equals_brute_force_on_small_scenes() {
 #[test]
 fn accelerated_equals_brute_force_on_scene_files() {
     for name in common::CONFORMANCE {
-        let file: Box<Desktop> =
-            Box::new(scene_file::load(format!("tests/data/{name}.toml")).unwrap());
+        let file: Box<Desktop> = scene_file::load(format!("tests/data/{name}.toml")).unwrap();
         same(&file.scene, &file.camera, file.options);
     }
     let demo: Box<Desktop> =
-        Box::new(scene_file::parse(include_str!("../examples/scenes/demo.toml")).unwrap());
+        scene_file::parse(include_str!("../examples/scenes/demo.toml")).unwrap();
     let camera = demo.view.camera(160, 120).unwrap();
     same(&demo.scene, &camera, demo.options);
 }
@@ -221,7 +220,7 @@ fn accelerated_equals_brute_force_with_256_spheres() {
     const H: u32 = 240;
     for kind in ["shadowed", "shaded", "primary"] {
         let file: Box<Desktop> =
-            Box::new(scene_file::load(format!("bench/scenes/spread256_{kind}.toml")).unwrap());
+            scene_file::load(format!("bench/scenes/spread256_{kind}.toml")).unwrap();
         assert_eq!(file.scene.spheres().len(), 257);
         let camera = file.view.camera(W, H).unwrap();
         same(&file.scene, &camera, file.options);
@@ -239,12 +238,11 @@ fn bands_of_any_height_render_the_whole_frame() {
         "tests/data/room.toml",
         "bench/scenes/target.toml",
     ] {
-        let file: Box<Desktop> = Box::new(scene_file::load(path).unwrap());
+        let file: Box<Desktop> = scene_file::load(path).unwrap();
         let camera = file.view.camera(97, 61).unwrap();
         scenes.push((file, camera));
     }
-    let file: Box<Desktop> =
-        Box::new(scene_file::load("bench/scenes/spread256_shadowed.toml").unwrap());
+    let file: Box<Desktop> = scene_file::load("bench/scenes/spread256_shadowed.toml").unwrap();
     let camera = file.view.camera(160, 120).unwrap();
     scenes.push((file, camera));
     for (file, camera) in &scenes {

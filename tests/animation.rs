@@ -70,7 +70,7 @@ fn every_frame_of_an_orbit_is_the_render_of_its_camera() {
         "five frames, looping forever"
     );
     assert!(delay.0 > 0 && delay.1 > 0);
-    let file: Box<Desktop> = Box::new(scene_file::load("tests/data/lit.toml").unwrap());
+    let file: Box<Desktop> = scene_file::load("tests/data/lit.toml").unwrap();
     let orbit = Orbit {
         view: file.view,
         degrees: 120.0,
@@ -111,7 +111,7 @@ fn keyframes_from_the_scene_file_set_each_frame() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let (frames, _, _) = apng_frames(&out);
-    let file: Box<Desktop> = Box::new(scene_file::load(scene_path).unwrap());
+    let file: Box<Desktop> = scene_file::load(scene_path).unwrap();
     assert_eq!(file.keyframes.keys().len(), 3);
     for (k, got) in frames.iter().enumerate() {
         let camera = file
@@ -158,7 +158,7 @@ fn a_gif_has_the_frames_in_order() {
         .read_info(std::fs::File::open(&out).unwrap())
         .unwrap();
     assert_eq!((decoder.width(), decoder.height()), (40, 30));
-    let file: Box<Desktop> = Box::new(scene_file::load("tests/data/lit.toml").unwrap());
+    let file: Box<Desktop> = scene_file::load("tests/data/lit.toml").unwrap();
     let orbit = Orbit {
         view: file.view,
         degrees: 60.0,

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use common::cli::{fails, fails_as, renderer, run, scratch, stderr};
+use microray::scene_file;
 
 #[test]
 fn renders_a_scene_and_reports_the_time() {
@@ -455,7 +456,7 @@ fn a_full_disk_exits_1_and_keeps_the_existing_output() {
     assert!(out.contains("files=out.png \n"), "{out}");
 }
 
-/// A scene at the desktop capacities (1024 spheres, 32 lights, shadows, a mirror) renders the
+/// A scene at the desktop capacities (`SPHERES` spheres, `LIGHTS` lights, shadows, a mirror) renders the
 /// library's pixels; one sphere or one light more is invalid input naming the key.
 #[test]
 fn a_scene_at_the_capacities_renders_and_one_more_is_an_error() {
@@ -464,13 +465,25 @@ fn a_scene_at_the_capacities_renders_and_one_more_is_an_error() {
         "[camera]\neye = [0, 0, 40]\nlook_at = [0, 0, 0]\n\n\
          [render]\nwidth = 96\nheight = 72\nshadows = true\nmax_depth = 2\n\n",
     );
-    // A 32×32 grid of spheres in the plane z = 0, the middle one a mirror.
-    for i in 0..1024 {
-        let (x, y) = ((i % 32) as f32 - 15.5, (i / 32) as f32 - 15.5);
-        let mirror = if i == 528 { "mirror = 0.8\n" } else { "" };
+    // A square grid of spheres 32 across in the plane z = 0, one near the middle a mirror.
+    let side = scene_file::SPHERES.isqrt();
+    assert_eq!(
+        side * side,
+        scene_file::SPHERES,
+        "the grid fills the capacity"
+    );
+    let pitch = 32.0 / side as f32;
+    for i in 0..scene_file::SPHERES {
+        let (x, y) = (
+            ((i % side) as f32 + 0.5) * pitch - 16.0,
+            ((i / side) as f32 + 0.5) * pitch - 16.0,
+        );
+        let middle = side * side / 2 + side / 2;
+        let mirror = if i == middle { "mirror = 0.8\n" } else { "" };
         toml += &format!(
-            "[[sphere]]\ncenter = [{x}, {y}, {}]\nradius = 0.45\n{mirror}\n",
-            (i % 7) as f32 * 0.1
+            "[[sphere]]\ncenter = [{x}, {y}, {}]\nradius = {}\n{mirror}\n",
+            (i % 7) as f32 * 0.1,
+            0.45 * pitch
         );
     }
     // Point lights in a ring in front of the grid, every fourth one a directional light.
@@ -493,11 +506,10 @@ fn a_scene_at_the_capacities_renders_and_one_more_is_an_error() {
     let o = run(&[scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
 
-    let file: Box<microray::scene_file::Desktop> =
-        Box::new(microray::scene_file::load(&scene).unwrap());
+    let file: Box<microray::scene_file::Desktop> = microray::scene_file::load(&scene).unwrap();
     assert_eq!(
         (file.scene.spheres().len(), file.scene.lights().len()),
-        (1024, 32)
+        (scene_file::SPHERES, scene_file::LIGHTS)
     );
     let camera = file.view.camera(96, 72).unwrap();
     let mut storage = Box::new(microray::FrameStorage::new());
@@ -531,7 +543,11 @@ fn a_scene_at_the_capacities_renders_and_one_more_is_an_error() {
         &dir,
         &[scene.to_str().unwrap()],
         2,
-        "1025 spheres, more than the capacity of 1024",
+        &format!(
+            "{} spheres, more than the capacity of {}",
+            scene_file::SPHERES + 1,
+            scene_file::SPHERES
+        ),
     );
     std::fs::write(
         &scene,

@@ -72,7 +72,11 @@ fn glass_mirror() {
 /// The comparison itself must be able to fail: a visibly wrong render is rejected.
 #[test]
 fn a_wrong_image_fails() {
-    let mut file = Box::new(microray::scene_file::load::<1024, 32>("tests/data/lit.toml").unwrap());
+    let mut file = microray::scene_file::load::<
+        { microray::scene_file::SPHERES },
+        { microray::scene_file::LIGHTS },
+    >("tests/data/lit.toml")
+    .unwrap();
     file.scene.set_shadows(false);
     let got = common::render(&file);
     let want = common::read_png("tests/data/lit.png");

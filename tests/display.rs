@@ -113,14 +113,16 @@ fn scenes() -> Vec<(String, Box<Desktop>)> {
     names
         .into_iter()
         .map(|path| {
-            let file = Box::new(scene_file::load(&path).unwrap_or_else(|e| panic!("{e}")));
+            let file = scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"));
             (path, file)
         })
         .collect()
 }
 
 /// Runs `f` on each scene's frame and its whole image from `Frame::render`.
-fn each_frame(mut f: impl FnMut(&str, &Frame<'_, 1024, 32>, &[Rgb888])) {
+fn each_frame(
+    mut f: impl FnMut(&str, &Frame<'_, { scene_file::SPHERES }, { scene_file::LIGHTS }>, &[Rgb888]),
+) {
     for (path, file) in scenes() {
         let mut storage = Box::new(FrameStorage::new());
         let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage).unwrap();
@@ -255,7 +257,7 @@ fn color_converted_images_reach_rgb565_panels() {
 /// `draw_dithered` and `render_rows_dithered` onto colour `C`: each pixel `C::dither` of the
 /// rendered pixel, by its place in the frame; one window.
 fn check_dithered<C: Dither + core::fmt::Debug>(
-    frame: &Frame<'_, 1024, 32>,
+    frame: &Frame<'_, { scene_file::SPHERES }, { scene_file::LIGHTS }>,
     whole: &[Rgb888],
     path: &str,
 ) {
@@ -460,7 +462,7 @@ fn progressive_reaches_grey_and_rgb565_displays() {
 #[test]
 fn tiny_frames_and_odd_sizes() {
     // 1 × 1 up to sizes that are not multiples of 8: blocks clipped to the frame.
-    let file: Box<Desktop> = Box::new(scene_file::load("tests/data/lit.toml").unwrap());
+    let file: Box<Desktop> = scene_file::load("tests/data/lit.toml").unwrap();
     for (w, h) in [(1, 1), (1, 9), (9, 1), (13, 7), (17, 18)] {
         let mut file = file.clone();
         file.camera = microray::Camera::new(

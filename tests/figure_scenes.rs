@@ -15,7 +15,7 @@ use figure_scenes::{FigureScene, FIGURES, HEIGHT, LIGHTS, SPHERES, WIDTH};
 use microray::scene_file::{self, SceneFile};
 use microray::{Frame, FrameStorage};
 
-fn load(k: usize) -> SceneFile<SPHERES, LIGHTS> {
+fn load(k: usize) -> Box<SceneFile<SPHERES, LIGHTS>> {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/").to_owned() + FIGURES[k].file;
     scene_file::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }

@@ -54,9 +54,8 @@ fn check_file(file: &Desktop, name: &str, min_covered: f64) -> Agreement {
 }
 
 fn check(name: &str, min_covered: f64) -> Agreement {
-    let file: Box<Desktop> = Box::new(
-        scene_file::load(format!("tests/hard/{name}.toml")).unwrap_or_else(|e| panic!("{e}")),
-    );
+    let file: Box<Desktop> =
+        scene_file::load(format!("tests/hard/{name}.toml")).unwrap_or_else(|e| panic!("{e}"));
     check_file(&file, name, min_covered)
 }
 
@@ -170,7 +169,7 @@ fn glass_grazing() {
 /// scene renders as without it (shadows off, which it would cast), within 1 level.
 #[test]
 fn glass_of_index_one_is_invisible() {
-    let file: Box<Desktop> = Box::new(scene_file::load("tests/data/glass.toml").unwrap());
+    let file: Box<Desktop> = scene_file::load("tests/data/glass.toml").unwrap();
     let invisible = microray::Material {
         diffuse: microray::Color::ZERO,
         specular: microray::Color::ZERO,

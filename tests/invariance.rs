@@ -90,7 +90,7 @@ fn toml(sc: &Random, s: f64, t: [f64; 3]) -> String {
 }
 
 fn load(text: &str) -> Box<Desktop> {
-    Box::new(parse(text).unwrap_or_else(|e| panic!("{e}\n{text}")))
+    parse(text).unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
 
 /// Pixels off by more than 1 and by more than 8 between two f32 images, leaving out pixels

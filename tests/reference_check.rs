@@ -9,7 +9,7 @@ use common::reference::Reference;
 fn reference_reproduces_the_conformance_images() {
     for name in common::CONFORMANCE {
         let file: Box<microray::scene_file::Desktop> =
-            Box::new(microray::scene_file::load(format!("tests/data/{name}.toml")).unwrap());
+            microray::scene_file::load(format!("tests/data/{name}.toml")).unwrap();
         let r = Reference::new(&file);
         let got = common::Image {
             width: r.width,

@@ -6,7 +6,7 @@ use microray::{Color, Encoding, Light, Vec3};
 
 const CAMERA: &str = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n";
 
-fn parse_desktop(text: &str) -> Result<Desktop, microray::scene_file::SceneError> {
+fn parse_desktop(text: &str) -> Result<Box<Desktop>, microray::scene_file::SceneError> {
     parse(text)
 }
 
@@ -424,19 +424,20 @@ fn out_of_range_settings() {
 fn more_than_capacity_is_an_error_not_a_truncation() {
     let sphere = "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\n";
     let light = "[[light]]\nkind = \"point\"\nposition = [0, 9, 0]\n";
+    let n = microray::scene_file::SPHERES;
     assert_eq!(
-        parse_desktop(&format!("{CAMERA}{}", sphere.repeat(1024)))
+        parse_desktop(&format!("{CAMERA}{}", sphere.repeat(n)))
             .unwrap()
             .scene
             .spheres()
             .len(),
-        1024
+        n
     );
     rejects(
-        &sphere.repeat(1025),
-        4 + 3 * 1024,
+        &sphere.repeat(n + 1),
+        4 + 3 * n,
         "sphere",
-        "1025 spheres, more than the capacity of 1024",
+        &format!("{} spheres, more than the capacity of {n}", n + 1),
     );
     assert_eq!(
         parse_desktop(&format!("{CAMERA}{}", light.repeat(32)))

@@ -6,7 +6,11 @@ use embedded_graphics::pixelcolor::Rgb888;
 use microray::scene_file::{self, Desktop};
 use microray::{Camera, Frame, FrameStorage};
 
-fn render(file: &Desktop, camera: &Camera, storage: &mut FrameStorage<1024, 32>) -> Vec<Rgb888> {
+fn render(
+    file: &Desktop,
+    camera: &Camera,
+    storage: &mut FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }>,
+) -> Vec<Rgb888> {
     let frame = Frame::new(&file.scene, camera, file.options, storage).unwrap();
     let mut image = vec![Rgb888::new(0, 0, 0); (camera.width() * camera.height()) as usize];
     frame.render(&mut image).unwrap();
@@ -24,12 +28,12 @@ const SMALL_STACK: usize = if cfg!(debug_assertions) {
     64 << 10
 };
 
-fn desktop_storage() -> Box<FrameStorage<1024, 32>> {
+fn desktop_storage() -> Box<FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }>> {
     Box::new(FrameStorage::new())
 }
 
 fn load(path: &str) -> (Box<Desktop>, Camera) {
-    let file = Box::new(scene_file::load(path).unwrap());
+    let file = scene_file::load(path).unwrap();
     let camera = file.view.camera(128, 96).unwrap();
     (file, camera)
 }

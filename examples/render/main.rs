@@ -83,13 +83,11 @@ fn main() -> ExitCode {
 }
 
 fn run(args: Args) -> Result<(), Failure> {
-    let file: Box<Desktop> = Box::new(
-        match &args.scene {
-            Some(path) => scene_file::load(path),
-            None => scene_file::parse(DEMO),
-        }
-        .map_err(|e| Failure(if e.io { 1 } else { 2 }, e.to_string()))?,
-    );
+    let file: Box<Desktop> = match &args.scene {
+        Some(path) => scene_file::load(path),
+        None => scene_file::parse(DEMO),
+    }
+    .map_err(|e| Failure(if e.io { 1 } else { 2 }, e.to_string()))?;
     let width = args.width.unwrap_or(file.width);
     let height = args.height.unwrap_or(file.height);
     let camera = file
@@ -196,7 +194,7 @@ fn animate(
 }
 
 /// The desktop capacity of `Desktop` scenes.
-type DeskFrame<'a> = Frame<'a, 1024, 32>;
+type DeskFrame<'a> = Frame<'a, { scene_file::SPHERES }, { scene_file::LIGHTS }>;
 
 /// Renders `image` in bands of rows on `threads` threads through the library's band API,
 /// counting the rows done in `done` (for the progress bar). Returns the `render:`
@@ -216,7 +214,7 @@ type DeskFrame<'a> = Frame<'a, 1024, 32>;
 /// finish unparks it: waiting in `join`, or spinning with `yield_now`, it learned of the end
 /// ~0.1–0.25 ms late (after the thread's exit, or after the scheduler's slice).
 fn render(
-    scene: &microray::Scene<1024, 32>,
+    scene: &microray::Scene<{ scene_file::SPHERES }, { scene_file::LIGHTS }>,
     camera: &microray::Camera,
     options: RenderOptions,
     threads: usize,

@@ -143,9 +143,9 @@ impl Builder<'_> {
     pub(super) fn build<const S: usize, const L: usize>(
         &self,
         raw: RawFile,
-    ) -> Result<SceneFile<S, L>, SceneError> {
-        let mut scene: Scene<S, L> = Scene::new();
-
+    ) -> Result<Box<SceneFile<S, L>>, SceneError> {
+        // The scene's settings, applied once the file is on the heap.
+        let mut settings = None;
         let (width, height, options) = match &raw.render {
             None => (640, 480, RenderOptions::default()),
             Some(r) => {
@@ -155,11 +155,8 @@ impl Builder<'_> {
                 let height = self.int(r.height.as_ref(), 480, size, "render.height")?;
                 let bg = self.color(r.background.as_ref(), 0.0, "render.background")?;
                 let amb = self.color(r.ambient.as_ref(), 0.0, "render.ambient")?;
-                scene.set_background(bg).expect("checked above");
-                scene.set_ambient(amb).expect("checked above");
-                scene.set_shadows(r.shadows.unwrap_or(true));
                 let depth = self.int(r.max_depth.as_ref(), 3, 0..17, "render.max_depth")?;
-                scene.set_max_depth(depth as u8).expect("checked above");
+                settings = Some((bg, amb, r.shadows.unwrap_or(true), depth as u8));
                 let samples = self.int(r.samples.as_ref(), 1, 1..17, "render.samples")?;
                 let encoding = match &r.encoding {
                     None => Encoding::Linear,
@@ -215,6 +212,25 @@ impl Builder<'_> {
             };
             self.err(span, field, e)
         })?;
+
+        // Built in place on the heap: a scene at the desktop capacity is over a megabyte, more
+        // than a thread's stack should hold, let alone the copies of a return by value.
+        let mut file = Box::new(SceneFile {
+            scene: Scene::new(),
+            camera,
+            view,
+            width,
+            height,
+            options,
+            keyframes: Keyframes::new(),
+        });
+        let scene = &mut file.scene;
+        if let Some((bg, amb, shadows, depth)) = settings {
+            scene.set_background(bg).expect("checked above");
+            scene.set_ambient(amb).expect("checked above");
+            scene.set_shadows(shadows);
+            scene.set_max_depth(depth).expect("checked above");
+        }
 
         if raw.sphere.len() > S {
             let s = &raw.sphere[S];
@@ -334,17 +350,8 @@ impl Builder<'_> {
                 .map_err(|e| self.err(l.span(), &format!("light[{i}]"), e))?;
         }
 
-        let keyframes = self.keyframes(&raw.keyframe, &view, (width, height))?;
-
-        Ok(SceneFile {
-            scene,
-            camera,
-            view,
-            width,
-            height,
-            options,
-            keyframes,
-        })
+        file.keyframes = self.keyframes(&raw.keyframe, &view, (width, height))?;
+        Ok(file)
     }
 
     /// The `[[keyframe]]` tables: none, or 2..=KEYFRAMES keys whose fields default to the

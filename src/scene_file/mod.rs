@@ -35,6 +35,7 @@
 //! # Ok::<(), microray::scene_file::SceneError>(())
 //! ```
 
+use std::boxed::Box;
 use std::fmt;
 use std::ops::Range;
 use std::path::Path;
@@ -60,8 +61,15 @@ mod raw;
 use build::*;
 use raw::*;
 
-/// The desktop renderer's scene: 1024 spheres and 32 lights.
-pub type Desktop = SceneFile<1024, 32>;
+/// The desktop renderer's sphere capacity ([`Desktop`]); a scene file with more spheres is
+/// [`SceneError`] naming the sphere that does not fit.
+pub const SPHERES: usize = 1024;
+
+/// The desktop renderer's light capacity ([`Desktop`]).
+pub const LIGHTS: usize = 32;
+
+/// The desktop renderer's scene: [`SPHERES`] spheres and [`LIGHTS`] lights.
+pub type Desktop = SceneFile<SPHERES, LIGHTS>;
 
 /// A scene file, read and checked: the scene, its camera and how to render it.
 #[derive(Debug, Clone)]
@@ -136,6 +144,9 @@ impl std::error::Error for SceneError {}
 /// I/O error (`io`); one that is not UTF-8 text is invalid input, located by line and byte
 /// offset.
 ///
+/// The file comes boxed: it is built in place on the heap, since a [`Desktop`] file is over a
+/// megabyte, which a thread's stack should not hold.
+///
 /// ```
 /// let err = microray::scene_file::load::<4, 1>("no/such/scene.toml").unwrap_err();
 /// assert!(err.io && err.to_string().starts_with("no/such/scene.toml: "));
@@ -149,7 +160,7 @@ impl std::error::Error for SceneError {}
 /// ```
 pub fn load<const S: usize, const L: usize>(
     path: impl AsRef<Path>,
-) -> Result<SceneFile<S, L>, SceneError> {
+) -> Result<Box<SceneFile<S, L>>, SceneError> {
     let path = path.as_ref();
     let name = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| SceneError {
@@ -176,7 +187,7 @@ pub fn load<const S: usize, const L: usize>(
     })
 }
 
-/// Parses and checks scene text.
+/// Parses and checks scene text, into a file built in place on the heap (see [`load`]).
 ///
 /// ```
 /// use microray::scene_file::parse;
@@ -184,7 +195,9 @@ pub fn load<const S: usize, const L: usize>(
 /// assert_eq!(parse::<4, 1>(text).unwrap_err().to_string(),
 ///            "line 6: sphere[0].radius: radius must be finite and > 0");
 /// ```
-pub fn parse<const S: usize, const L: usize>(text: &str) -> Result<SceneFile<S, L>, SceneError> {
+pub fn parse<const S: usize, const L: usize>(
+    text: &str,
+) -> Result<Box<SceneFile<S, L>>, SceneError> {
     let lines = LineIndex::new(text);
     let raw: RawFile = toml::from_str(text).map_err(|e| {
         let line = e.span().map(|s| lines.line(s.start));

@@ -48,7 +48,7 @@ pub fn read_png(path: &str) -> Image {
 
 /// Renders a scene file the way the desktop renderer does (same parser, same band API).
 pub fn render_file(path: &str) -> Image {
-    let file: Box<Desktop> = Box::new(scene_file::load(path).unwrap_or_else(|e| panic!("{e}")));
+    let file: Box<Desktop> = scene_file::load(path).unwrap_or_else(|e| panic!("{e}"));
     render(&file)
 }
 

@@ -9,7 +9,7 @@ use embedded_graphics::mock_display::MockDisplay;
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
-use microray::scene_file::{parse, SceneFile};
+use microray::scene_file::parse;
 use microray::{
     Camera, Color, Encoding, Error, Frame, FrameStorage, Light, Material, RenderOptions, Scene,
     Sphere, Vec3,
@@ -348,7 +348,6 @@ pub fn check_scene_text(text: &str) -> Reached {
     let Ok(file) = parse::<64, 8>(text) else {
         return Reached::Refused;
     };
-    let file: Box<SceneFile<64, 8>> = Box::new(file);
     let (w, h) = (file.width.min(24), file.height.min(16));
     let Ok(camera) = file.view.camera(w, h) else {
         return Reached::Refused;

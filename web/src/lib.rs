@@ -25,7 +25,7 @@ pub const LIGHTS: usize = 8;
 /// A scene read from its file, ready to render any frame of its animation.
 #[derive(Debug)]
 pub struct Animation {
-    file: SceneFile<SPHERES, LIGHTS>,
+    file: Box<SceneFile<SPHERES, LIGHTS>>,
     storage: Box<FrameStorage<SPHERES, LIGHTS>>,
     pixels: Vec<Rgb888>,
 }

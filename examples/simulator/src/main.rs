@@ -145,10 +145,8 @@ fn check_png(out: &Path) -> Result<(), Failure> {
 }
 
 fn run(args: Args) -> Result<(), Failure> {
-    let file: Box<Desktop> = Box::new(
-        scene_file::load(&args.scene)
-            .map_err(|e| Failure(if e.io { 1 } else { 2 }, e.to_string()))?,
-    );
+    let file: Box<Desktop> = scene_file::load(&args.scene)
+        .map_err(|e| Failure(if e.io { 1 } else { 2 }, e.to_string()))?;
     let (w, h) = (args.size.width, args.size.height);
     let camera = file
         .view
@@ -182,7 +180,7 @@ fn run(args: Args) -> Result<(), Failure> {
 fn run_window(
     file: &Desktop,
     camera: Camera,
-    storage: &mut FrameStorage<1024, 32>,
+    storage: &mut FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }>,
     display: &mut SimulatorDisplay<Rgb888>,
     exit_after: Option<Duration>,
 ) -> Result<(), Failure> {
@@ -294,7 +292,7 @@ enum Traced {
 fn trace(
     file: &Desktop,
     camera: &Camera,
-    storage: &mut FrameStorage<1024, 32>,
+    storage: &mut FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }>,
     live: &mut Live<'_>,
 ) -> Result<Traced, Failure> {
     let start = Instant::now();
@@ -404,7 +402,7 @@ mod tests {
     use super::*;
 
     fn demo() -> Box<Desktop> {
-        Box::new(scene_file::load(DEMO).expect("the demo scene"))
+        scene_file::load(DEMO).expect("the demo scene")
     }
 
     #[test]
