@@ -227,6 +227,24 @@ fn accelerated_equals_brute_force_with_256_spheres() {
     }
 }
 
+/// The scaling scenes (`bench/scenes/{spread,cluster}1024.toml`, `bench/scale_scenes.py`): a
+/// thousand spheres spread over the screen, and packed about 32 deep at its centre, where a
+/// span's hits fall on many spheres and fill every hit group; and the mirror scene at 640×480.
+/// At a quarter of their pixels.
+#[test]
+fn accelerated_equals_brute_force_on_the_scaling_scenes() {
+    for (name, n) in [
+        ("spread1024", 1024),
+        ("cluster1024", 1024),
+        ("mirror640", 4),
+    ] {
+        let file: Box<Desktop> = scene_file::load(format!("bench/scenes/{name}.toml")).unwrap();
+        assert_eq!(file.scene.spheres().len(), n, "{name}");
+        let camera = file.view.camera(320, 240).unwrap();
+        same(&file.scene, &camera, file.options);
+    }
+}
+
 /// `render_rows` gathers a span's rows several at a time (with one sample a pixel and
 /// shadows): bands of any height, starting at any row, render the pixels of the whole frame,
 /// and so do the row iterator's pixels (`Frame::row`, one row at a time).
