@@ -330,8 +330,10 @@ pub(super) fn box4(p: &[Vec3]) -> (Vec3, Vec3) {
 }
 
 /// Hit groups per span: hits on up to `GROUPS − 1` spheres get their own bound, the rest share
-/// the last.
-pub(super) const GROUPS: usize = 4;
+/// the last. A host's 32×8 tile over many small spheres hits more than three of them, and the
+/// shared group's box (and so its shadow candidates) then spans the tile; Cortex-M bounds one
+/// row's span, which rarely does, and keeps the smaller `Cull`.
+pub(super) const GROUPS: usize = if cfg!(lanes) { 8 } else { 4 };
 /// A slot's hit in no group (`Cull::hit_g`).
 pub(super) const NO_GROUP: u8 = u8::MAX;
 
