@@ -63,12 +63,21 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             ray,
             &{ h },
             colour,
-            |hit, ray, _| {
-                shade_lit(scene, hit, ray.dir, |i, light, v| {
-                    self.blocked(hit, None, i, light, v)
-                })
-            },
+            self.bounce(),
         ))
+    }
+
+    /// The shading of a secondary hit, whose shadow rays test every sphere: one closure, and
+    /// so one copy of the out-of-line walk of secondary rays, for `shade_stored` and
+    /// `shade_from`.
+    #[inline(always)]
+    fn bounce(&self) -> impl FnMut(&Hit, &Ray, bool) -> Color + '_ {
+        let scene = self.scene;
+        move |hit, ray, _| {
+            shade_lit(scene, hit, ray.dir, |i, light, v| {
+                self.blocked(hit, None, i, light, v)
+            })
+        }
     }
 
     /// Shades a primary hit (and its secondary rays): `lists`, when given, holds per light
@@ -82,6 +91,18 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         lists: Option<Lists<'_, L>>,
     ) -> Color {
         let scene = self.scene;
+        if INLINE_SHADING {
+            // `shade_stored` walks secondary rays with `bounce` too: one walk for both.
+            let Some(h) = first else {
+                return scene.background();
+            };
+            let colour = shade_lit(scene, &h, ray.dir, |i, light, v| {
+                self.blocked(&h, lists, i, light, v)
+            });
+            return crate::shading::follow_secondary(scene, ray, &h, colour, self.bounce());
+        }
+        // The walk's only caller: primary and secondary hits share one out-of-line copy of the
+        // shading.
         follow(scene, ray, first, |hit, ray, primary| {
             let lists = if primary { lists } else { None };
             shade_lit(scene, hit, ray.dir, |i, light, v| {
