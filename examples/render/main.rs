@@ -7,6 +7,7 @@
 //! and an existing file at the output path is left untouched.
 
 mod animation;
+mod bands;
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -21,6 +22,7 @@ use microray::scene_file::{self, Desktop};
 use microray::{Frame, FrameStorage, RenderOptions};
 
 use animation::{Encoder, Format, Path as CameraPath};
+use bands::Bands;
 
 const DEMO: &str = include_str!("../scenes/demo.toml");
 
@@ -211,8 +213,9 @@ type DeskFrame<'a> = Frame<'a, { scene_file::SPHERES }, { scene_file::LIGHTS }>;
 /// be moved to where the threads can borrow it (0.7 MB at this capacity). This thread does not
 /// render with them: a worker it spawned was queued on its CPU, and the two took as long as one
 /// thread alone (1.38× one over 21 interleaved runs instead of 1.85×). The last worker to
-/// finish unparks it: waiting in `join`, or spinning with `yield_now`, it learned of the end
-/// ~0.1–0.25 ms late (after the thread's exit, or after the scheduler's slice).
+/// finish notes the time, which ends the clock, and unparks it: waiting in `join`, or spinning
+/// with `yield_now`, it learned of the end ~0.1–0.25 ms late (after the thread's exit, or after
+/// the scheduler's slice).
 fn render(
     scene: &microray::Scene<{ scene_file::SPHERES }, { scene_file::LIGHTS }>,
     camera: &microray::Camera,
@@ -223,24 +226,24 @@ fn render(
 ) -> Result<(f64, Option<f64>), Failure> {
     let (w, h) = (camera.width() as usize, camera.height() as usize);
     let failed = |e: microray::Error| Failure(2, format!("--samples: {e}"));
-    // Bands of a few rows, handed out in order: short enough to balance uneven rows, and as
-    // tall as the renderer's tiles (8 rows, whose shadow lists `render_rows` builds once).
-    let band_rows = 8;
-    let bands = Mutex::new(image.chunks_mut(w * band_rows).enumerate());
+    let workers = threads.min(h);
+    // Bands of a few rows, handed out in order (`bands.rs`).
+    let bands = Mutex::new(Bands::new(image, w, workers));
     let work = |frame: &DeskFrame<'_>| loop {
         let next = bands.lock().unwrap_or_else(|e| e.into_inner()).next();
-        let Some((b, band)) = next else { break };
+        let Some((row, band)) = next else { break };
         // Every band holds whole rows inside the image, so this cannot fail.
-        if let Ok(rows) = frame.render_rows((b * band_rows) as u32, band) {
+        if let Ok(rows) = frame.render_rows(row as u32, band) {
             done.fetch_add(rows, Ordering::Relaxed);
         }
     };
-    let workers = threads.min(h.div_ceil(band_rows));
     // How many workers wait for the start, whether to start (`GO`) or not (`STOP`), and how
     // many have not finished.
     let ready = AtomicUsize::new(0);
     let state = AtomicU8::new(WAIT);
     let left = AtomicUsize::new(workers);
+    // When the last worker finished: the frame's end, which this thread learns of later.
+    let end = Mutex::new(None::<Instant>);
     let waiter = std::thread::current();
     std::thread::scope(|s| {
         if threads == 1 {
@@ -268,6 +271,7 @@ fn render(
                 // waiting thread always wakes (and `join` then passes the panic on).
                 let _finished = Finally(|| {
                     if left.fetch_sub(1, Ordering::Release) == 1 {
+                        *end.lock().unwrap_or_else(|e| e.into_inner()) = Some(Instant::now());
                         waiter.unpark();
                     }
                 });
@@ -291,7 +295,8 @@ fn render(
         while left.load(Ordering::Acquire) > 0 {
             std::thread::park();
         }
-        let ms = start.elapsed().as_secs_f64() * 1e3;
+        let last = *end.lock().unwrap_or_else(|e| e.into_inner());
+        let ms = (last.unwrap_or_else(Instant::now) - start).as_secs_f64() * 1e3;
         let mut result = Ok(());
         for worker in spawned {
             let r = worker
