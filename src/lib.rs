@@ -74,7 +74,7 @@
 //!     position = [3, 5, 4]
 //!     "#,
 //! )?;
-//! // The desktop capacity (1024 spheres, 32 lights) takes 0.75 MB of tables: on the heap.
+//! // The desktop capacity (1024 spheres, 32 lights) takes 0.78 MB of tables: on the heap.
 //! let mut storage = Box::new(FrameStorage::new());
 //! let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage)?;
 //! let mut image = vec![Rgb888::new(0, 0, 0); (file.width * file.height) as usize];

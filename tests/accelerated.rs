@@ -227,20 +227,23 @@ fn accelerated_equals_brute_force_with_256_spheres() {
     }
 }
 
-/// The scaling scenes (`bench/scenes/{spread,cluster}1024.toml`, `bench/scale_scenes.py`): a
-/// thousand spheres spread over the screen, and packed about 32 deep at its centre, where a
-/// span's hits fall on many spheres and fill every hit group; and the mirror scene at 640×480.
-/// At a quarter of their pixels.
+/// The scaling scenes (`bench/scenes/{spread,cluster,mirrors}1024.toml`,
+/// `bench/scale_scenes.py`): a thousand spheres spread over the screen, and packed about 32
+/// deep at its centre, where a span's hits fall on many spheres and fill every hit group; the
+/// spread spheres as mirrors, whose rays and their shadow rays go through the frame's
+/// hierarchy; and the mirror scene at 640×480. At a quarter of their pixels (the mirrors at a
+/// sixteenth: their brute force tests every sphere at every bounce).
 #[test]
 fn accelerated_equals_brute_force_on_the_scaling_scenes() {
-    for (name, n) in [
-        ("spread1024", 1024),
-        ("cluster1024", 1024),
-        ("mirror640", 4),
+    for (name, n, (w, h)) in [
+        ("spread1024", 1024, (320, 240)),
+        ("cluster1024", 1024, (320, 240)),
+        ("mirrors1024", 1024, (160, 120)),
+        ("mirror640", 4, (320, 240)),
     ] {
         let file: Box<Desktop> = scene_file::load(format!("bench/scenes/{name}.toml")).unwrap();
         assert_eq!(file.scene.spheres().len(), n, "{name}");
-        let camera = file.view.camera(320, 240).unwrap();
+        let camera = file.view.camera(w, h).unwrap();
         same(&file.scene, &camera, file.options);
     }
 }

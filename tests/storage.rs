@@ -17,11 +17,11 @@ fn render(
     image
 }
 
-/// Storage at the desktop capacity (0.75 MB). Built here, in one place: an unoptimised build
+/// Storage at the desktop capacity (0.78 MB). Built here, in one place: an unoptimised build
 /// gives every `Box::new(FrameStorage::new())` a stack slot of its own in the function that
 /// writes it, and three of them overflow a test thread's 2 MiB.
 /// The small stack: 64 KiB, or 256 KiB unoptimised (whose frames are larger). Either is a
-/// fraction of the storage's 0.75 MB, which so cannot be on it.
+/// fraction of the storage's 0.78 MB, which so cannot be on it.
 const SMALL_STACK: usize = if cfg!(debug_assertions) {
     256 << 10
 } else {

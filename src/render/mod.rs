@@ -28,8 +28,12 @@
 //! Every list is a superset of the spheres the full test could report, and the tests
 //! themselves are the brute-force ones, in the same order where order matters (the closest
 //! hit keeps the last of equal `t`s): the pixels are the brute-force pixels, bit for bit
-//! ([`Frame::render_rows_brute`] is kept as the reference). Mirror rays, which leave from
-//! anywhere, are traced against every sphere.
+//! ([`Frame::render_rows_brute`] is kept as the reference). Secondary rays (mirror and
+//! refracted rays, and the shadow rays of their hits), which leave from anywhere, go through a
+//! hierarchy of bounding balls over the spheres (`bvh.rs`), built once a frame above a
+//! capacity of 8 where the scene has more than 16 spheres and secondary rays; it names the
+//! spheres a ray can meet, each asked with the brute-force test, equal `t`s decided in the
+//! brute-force order.
 //!
 //! A scene pays only for what it has: without lights or shadows, step 2 is skipped; no
 //! specular or mirror work is done for materials without them.
@@ -44,6 +48,7 @@ use crate::raster::{PixelBox, Screen};
 use crate::scene::{hit_from_offset, make_hit, Hit, Light, Scene, SphereId};
 use crate::shading::{follow, in_shadow_among, shade_lit, LightKind, T_EPS};
 
+mod bvh;
 mod candidates;
 mod config;
 mod cull;
@@ -60,6 +65,7 @@ mod sweep;
 #[cfg(test)]
 mod tests;
 
+use bvh::*;
 use candidates::*;
 use config::*;
 use cull::*;
@@ -136,6 +142,8 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     tables: &'a FrameStorage<S, L>,
     /// Shadows on and at least one light: the only case that casts shadow rays.
     shadow_rays: bool,
+    /// Secondary rays go through the hierarchy in `tables` (`bvh.rs`): the frame has one.
+    culls: bool,
 }
 
 /// Sphere ids: a row's, a span's or a light's candidates.
@@ -182,6 +190,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             encoding: options.encoding,
             tables: storage,
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),
+            culls: Self::SWEEPS && storage.bvh.built(),
         })
     }
 

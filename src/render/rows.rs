@@ -65,7 +65,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn pixel_color_brute(&self, i: u32, j: u32) -> Color {
-        self.average(i, j, |ray| self.trace(ray))
+        self.average(i, j, |ray| {
+            let first = self.primary_hit(ray);
+            // A constant test first: a capacity of 8 or less has no hierarchy, and links no
+            // second copy of the shading.
+            if Self::SWEEPS && self.culls {
+                return self.shade_brute(ray, first);
+            }
+            self.shade_from(ray, first, None)
+        })
     }
 
     /// The average over the pixel's `samples²` rays of `f(ray)` (with one sample, `f(ray)`

@@ -2,6 +2,7 @@
 //! candidate lists (four pixels at a time on hosts: `lanes/shade.rs`).
 
 use super::*;
+use crate::shading::EverySphere;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Whether `hit_point_within` takes `f + t·d` for primary hits on sphere `s` (its eye
@@ -58,31 +59,61 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             return self.encode(colour);
         }
         // A copy, as for `shadow_test`: only the bounces put the record in memory.
-        self.encode(crate::shading::follow_secondary(
-            scene,
-            ray,
-            &{ h },
-            colour,
-            self.bounce(),
-        ))
+        self.encode(self.follow_secondary(ray, &{ h }, colour))
     }
 
-    /// The shading of a secondary hit, whose shadow rays test every sphere: one closure, and
-    /// so one copy of the out-of-line walk of secondary rays, for `shade_stored` and
-    /// `shade_from`.
+    /// The shading of a secondary hit, whose shadow rays test the spheres the frame's
+    /// hierarchy names ([`Bvh`]) where `CULL`, else every sphere: one closure, and so one copy
+    /// of the out-of-line walk of secondary rays, for `shade_stored` and `shade_from`.
     #[inline(always)]
-    fn bounce(&self) -> impl FnMut(&Hit, &Ray, bool) -> Color + '_ {
+    fn bounce<const CULL: bool>(&self) -> impl FnMut(&Hit, &Ray, bool) -> Color + '_ {
         let scene = self.scene;
         move |hit, ray, _| {
             shade_lit(scene, hit, ray.dir, |i, light, v| {
+                if CULL {
+                    return self.blocked_culled(hit, i, light, v);
+                }
                 self.blocked(hit, None, i, light, v)
             })
         }
     }
 
+    /// Walks the secondary rays of the primary hit `h` along `ray`, whose local colour is
+    /// `colour`: through the frame's hierarchy where it has one, else testing every sphere; the
+    /// same hits either way.
+    #[inline(always)]
+    fn follow_secondary(&self, ray: &Ray, h: &Hit, colour: Color) -> Color {
+        if Self::SWEEPS && self.culls {
+            return self.follow_culled(ray, h, colour);
+        }
+        let local = self.bounce::<false>();
+        crate::shading::follow_secondary(self.scene, ray, h, colour, local, EverySphere)
+    }
+
+    /// [`Frame::follow_secondary`] through the hierarchy. Out of line: the pixel loops inline
+    /// the other walk's call, and a second beside it cost the mirror and glass scenes 3–6 %
+    /// of their frame time (a larger loop, and the shadow test no longer inlined).
+    #[inline(never)]
+    fn follow_culled(&self, ray: &Ray, h: &Hit, colour: Color) -> Color {
+        let (local, find) = (self.bounce::<true>(), Culled(&self.tables.bvh));
+        crate::shading::follow_secondary(self.scene, ray, h, colour, local, find)
+    }
+
+    /// Whether light `i` is blocked at a secondary hit, among the spheres the hierarchy names.
+    #[inline(never)]
+    fn blocked_culled(&self, hit: &Hit, i: usize, light: &Light, v: Vec3) -> bool {
+        if !self.scene.shadows() {
+            return false;
+        }
+        let cs = self.light_consts(i, light);
+        let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
+        let cands = self.tables.bvh.shadow_candidates(hit, light, v);
+        in_shadow_among(self.scene, hit, light, v, consts, cands)
+    }
+
     /// Shades a primary hit (and its secondary rays): `lists`, when given, holds per light
     /// the spheres that can block shadow rays from this primary hit; secondary hits and missing
-    /// `lists` test every sphere.
+    /// `lists` test every sphere, or those the frame's hierarchy names.
     #[inline]
     pub(super) fn shade_from(
         &self,
@@ -99,16 +130,46 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let colour = shade_lit(scene, &h, ray.dir, |i, light, v| {
                 self.blocked(&h, lists, i, light, v)
             });
-            return crate::shading::follow_secondary(scene, ray, &h, colour, self.bounce());
+            return self.follow_secondary(ray, &h, colour);
         }
         // The walk's only caller: primary and secondary hits share one out-of-line copy of the
         // shading.
-        follow(scene, ray, first, |hit, ray, primary| {
+        let local = |hit: &Hit, ray: &Ray, primary: bool| {
             let lists = if primary { lists } else { None };
             shade_lit(scene, hit, ray.dir, |i, light, v| {
                 self.blocked(hit, lists, i, light, v)
             })
-        })
+        };
+        // `follow`, with the walk through the hierarchy where the frame has one.
+        let Some(h) = first else {
+            return scene.background();
+        };
+        let colour = local(&h, ray, true);
+        if Self::SWEEPS && self.culls {
+            return self.follow_culled(ray, &h, colour);
+        }
+        crate::shading::follow_secondary(scene, ray, &h, colour, local, EverySphere)
+    }
+
+    /// [`Frame::shade_from`] with every secondary ray, and the shadow rays of every hit,
+    /// tested against every sphere: the brute-force reference where the frame has a hierarchy
+    /// (without one, `shade_from` is that already). Its shadow test goes over a range, not the
+    /// frame's list of every sphere: the same tests, in a copy of their own, which leaves the
+    /// pixel loops' copy as it was.
+    #[inline(never)]
+    pub(super) fn shade_brute(&self, ray: &Ray, first: Option<Hit>) -> Color {
+        let scene = self.scene;
+        let local = |hit: &Hit, ray: &Ray, _| {
+            shade_lit(scene, hit, ray.dir, |i, light, v| {
+                if !scene.shadows() {
+                    return false;
+                }
+                let cs = self.light_consts(i, light);
+                let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
+                in_shadow_among(scene, hit, light, v, consts, 0..scene.spheres().len())
+            })
+        };
+        follow(scene, ray, first, local, EverySphere)
     }
 
     /// The spheres that can block light `i` for a hit with the span lists `lists` (a primary
@@ -206,5 +267,16 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             self.eye_hit(&ray, t, s.index())
         };
         self.shade_from(&ray, first, cull.lists_at(slot))
+    }
+}
+
+/// Secondary rays through the frame's hierarchy ([`Bvh::find_from`]).
+#[derive(Clone, Copy)]
+struct Culled<'a, const S: usize>(&'a Bvh<S>);
+
+impl<const S: usize, const L: usize> crate::shading::FindFrom<S, L> for Culled<'_, S> {
+    #[inline(always)]
+    fn find(self, scene: &Scene<S, L>, ray: &Ray, from: &Hit) -> Option<Hit> {
+        self.0.find_from(scene, ray, from)
     }
 }

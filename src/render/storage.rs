@@ -6,9 +6,10 @@ use super::*;
 /// The tables a [`Frame`] computes once and its rays share: per sphere the eye's constants
 /// ([`Prepared::exact`]), its screen box and whether its hit offsets are rebuilt exactly; per
 /// light with shadows the light's `c` of every sphere and (above 8 spheres) the sorted sweep of
-/// its shadow candidates.
+/// its shadow candidates; and (above 16 spheres, for scenes with mirrors or glass) the
+/// hierarchy that culls secondary rays.
 ///
-/// Its size grows with the capacity `S × L` of the scene (about 0.7 MB at `Scene<1024, 32>`, a
+/// Its size grows with the capacity `S × L` of the scene (about 0.78 MB at `Scene<1024, 32>`, a
 /// few hundred bytes at `Scene<8, 2>`), so the caller chooses where it lives: on the heap on a
 /// desktop (`Box::new(FrameStorage::new())`), in a `static` or on the stack of a
 /// microcontroller. A [`Frame`] borrows it for its lifetime; building another frame in the same
@@ -42,6 +43,8 @@ pub struct FrameStorage<const S: usize, const L: usize> {
     pub(super) all: List<S>,
     /// Per sphere, [`Frame::offset_near`]'s answer, decided once.
     pub(super) near: heapless::Vec<bool, S>,
+    /// The hierarchy that culls secondary rays, where the scene has them and `SWEEPS`.
+    pub(super) bvh: Bvh<S>,
 }
 
 impl<const S: usize, const L: usize> FrameStorage<S, L> {
@@ -67,6 +70,7 @@ impl<const S: usize, const L: usize> FrameStorage<S, L> {
         sweeps: heapless::Vec::new(),
         all: heapless::Vec::new(),
         near: heapless::Vec::new(),
+        bvh: Bvh::EMPTY,
     };
 
     /// Fills the tables for `scene` seen by `camera`, in place: nothing of capacity size is
@@ -88,6 +92,12 @@ impl<const S: usize, const L: usize> FrameStorage<S, L> {
                 .push(crate::geometry::offset_is_near(k.f, k.r, scene.near2(s)));
             let _ = self.all.push(SphereId::new(s));
             let _ = self.eye.push(k);
+        }
+        // A constant test: a capacity of 8 or less links none of the hierarchy, whose storage
+        // then stays empty.
+        if Frame::<'_, S, L>::SWEEPS {
+            let secondary = scene.has_secondary().then_some(scene.spheres());
+            self.bvh.fill(secondary.unwrap_or(&[]));
         }
         let axes = camera.basis();
         for consts in &mut self.lights {

@@ -111,3 +111,178 @@ mod sweep_tests {
         );
     }
 }
+
+#[cfg(test)]
+mod bvh_tests {
+    use super::super::*;
+    use crate::math::TestRng;
+    use crate::shading::find_from;
+    use crate::{Material, Sphere};
+
+    type Small = Scene<64, 1>;
+
+    /// A scene of 17 to 56 spheres (above `MIN_SPHERES`) for the hierarchy: radii 0.05–1.5 in a box of 10, tiny ones
+    /// (0.001–0.05) up to 40 away, at times a ground of radius 10³–10⁶ and an enclosing sphere,
+    /// and some spheres twice (their hits tie, and the brute-force order breaks the tie), all
+    /// moved by `shift` and scaled by `scale`.
+    fn scene(rng: &mut TestRng, shift: Vec3, scale: f32) -> Small {
+        let mut scene: Small = Scene::new();
+        let n = MIN_SPHERES as u64 + 1 + rng.next() % 40;
+        let mut spheres: heapless::Vec<Sphere, 64> = heapless::Vec::new();
+        for _ in 0..n {
+            let s = match rng.next() % 12 {
+                0 | 1 => Sphere::new(rng.vec(80.0), 0.001 + 0.049 * rng.unit()),
+                2 => {
+                    let r = [1e3, 1e5, 1e6][(rng.next() % 3) as usize];
+                    Sphere::new(Vec3::new(0.0, -r - 5.0 * rng.unit(), 0.0), r)
+                }
+                3 => Sphere::new(rng.vec(1.0), 20.0 + 40.0 * rng.unit()),
+                4 if !spheres.is_empty() => spheres[(rng.next() % spheres.len() as u64) as usize],
+                _ => Sphere::new(rng.vec(10.0), 0.05 + 1.45 * rng.unit()),
+            };
+            let _ = spheres.push(s);
+        }
+        for s in &spheres {
+            let moved = Sphere::new(s.center * scale + shift, s.radius * scale);
+            scene.add_sphere(moved, Material::default()).unwrap();
+        }
+        scene
+    }
+
+    /// A unit vector in f64 towards a point within a relative `k` of a tangent point of
+    /// `sphere` seen from `o` (a ray grazing it), or `None` from inside it.
+    fn grazing(rng: &mut TestRng, o: Vec3, sphere: &Sphere, k: f64) -> Option<Vec3> {
+        let f64s = |v: Vec3| [v.x as f64, v.y as f64, v.z as f64];
+        let (o, m, r) = (f64s(o), f64s(sphere.center), sphere.radius as f64);
+        let f = [o[0] - m[0], o[1] - m[1], o[2] - m[2]];
+        let dd = f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
+        if dd <= r * r {
+            return None;
+        }
+        let w = f64s(rng.vec(2.0));
+        let wf = (w[0] * f[0] + w[1] * f[1] + w[2] * f[2]) / dd;
+        let w = [w[0] - wf * f[0], w[1] - wf * f[1], w[2] - wf * f[2]];
+        let wn = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+        let (a, b) = (r * r / dd, r * (dd - r * r).sqrt() / dd.sqrt() / wn);
+        let k = 1.0 + k * (2.0 * rng.unit() as f64 - 1.0);
+        let q: [f64; 3] = core::array::from_fn(|n| m[n] + (a * f[n] + b * w[n]) * k - o[n]);
+        Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32).normalized()
+    }
+
+    /// Secondary rays from hits all over random scenes (at the origin, moved by 10⁴, scaled by
+    /// 10⁻⁴ and 10⁴), in random directions and grazing other spheres within 10⁻³ to 10⁻⁷:
+    /// the hierarchy's closest hit is `find_from`'s, bit for bit and tie for tie, and its
+    /// shadow candidates give `in_shadow_among` over every sphere's answer, for point lights
+    /// (with and without their per-frame constants) and directional ones.
+    #[test]
+    fn hierarchy_finds_the_brute_force_hits_and_blockers() {
+        let mut rng = TestRng(0x5EED_0B17);
+        let (mut hits, mut blocked, mut ties) = (0, 0, 0);
+        for case in 0..400 {
+            let (shift, scale) = match case % 4 {
+                0 => (Vec3::ZERO, 1.0),
+                1 => (Vec3::new(1e4, 1e4, -1e4), 1.0),
+                2 => (Vec3::ZERO, 1e-4),
+                _ => (Vec3::ZERO, 1e4),
+            };
+            let scene = scene(&mut rng, shift, scale);
+            let mut bvh: Bvh<64> = Bvh::EMPTY;
+            bvh.fill(scene.spheres());
+            assert!(bvh.built(), "case {case}");
+            let spheres = scene.spheres();
+            for _ in 0..60 {
+                // A hit: from a random point towards a random sphere.
+                let target = spheres[(rng.next() % spheres.len() as u64) as usize];
+                let eye = shift + rng.vec(30.0 * scale);
+                let aim = target.center + rng.vec(target.radius);
+                let Some(dir) = (aim - eye).normalized() else {
+                    continue;
+                };
+                let Some(h) = scene.find_intersection(&Ray::new(eye, dir), T_EPS, f32::INFINITY)
+                else {
+                    continue;
+                };
+                let p = h.anchor + h.rel;
+                let other = spheres[(rng.next() % spheres.len() as u64) as usize];
+                let k = [1e-3, 1e-5, 1e-7][(rng.next() % 3) as usize];
+                let d = match rng.next() % 3 {
+                    0 => rng.vec(2.0).normalized(),
+                    _ => grazing(&mut rng, p, &other, k),
+                };
+                let Some(d) = d else { continue };
+                let ray = Ray::new(p, d);
+                let brute = find_from(&scene, &ray, &h);
+                let fast = bvh.find_from(&scene, &ray, &h);
+                assert_eq!(brute, fast, "case {case}: {ray:?} from {h:?}");
+                assert_eq!(brute.map(|x| x.t.to_bits()), fast.map(|x| x.t.to_bits()));
+                hits += brute.is_some() as usize;
+                if let Some(b) = brute {
+                    ties += spheres
+                        .iter()
+                        .enumerate()
+                        .filter(|&(j, s)| j != b.sphere && *s == spheres[b.sphere])
+                        .count();
+                }
+                // Shadow rays towards a light beyond that direction, or along it.
+                let lights = [
+                    Light::Point {
+                        position: p + d * (scale * (0.5 + 20.0 * rng.unit())),
+                        intensity: Color::ONE,
+                    },
+                    Light::Directional {
+                        direction: -d,
+                        intensity: Color::ONE,
+                    },
+                ];
+                for light in &lights {
+                    let v = light.to_light(h.anchor, h.rel);
+                    let cs: heapless::Vec<f32, 64> = match light.origin() {
+                        Some(o) => spheres.iter().map(|s| Prepared::exact(o, s).c).collect(),
+                        None => heapless::Vec::new(),
+                    };
+                    for consts in [false, true] {
+                        let c = |j: usize| cs.get(j).copied().filter(|_| consts);
+                        let all = in_shadow_among(&scene, &h, light, v, c, 0..spheres.len());
+                        let cands = bvh.shadow_candidates(&h, light, v);
+                        let culled = in_shadow_among(&scene, &h, light, v, c, cands);
+                        assert_eq!(all, culled, "case {case}: {light:?} from {h:?}");
+                        blocked += all as usize;
+                    }
+                }
+            }
+        }
+        // The sets hold what they are meant to: hits, ties and blocked lights by the thousand.
+        assert!(
+            hits > 5_000 && blocked > 5_000 && ties > 200,
+            "{hits} {blocked} {ties}"
+        );
+    }
+
+    /// The hierarchy culls: a ray across a grid of small spheres asks a few of them, not all.
+    #[test]
+    fn hierarchy_names_few_spheres() {
+        let mut scene: Scene<1100, 1> = Scene::new();
+        for k in 0..1024 {
+            let c = Vec3::new((k % 32) as f32, (k / 32) as f32, 0.0);
+            scene
+                .add_sphere(Sphere::new(c, 0.3), Material::default())
+                .unwrap();
+        }
+        let mut bvh: Bvh<1100> = Bvh::EMPTY;
+        bvh.fill(scene.spheres());
+        let h = scene
+            .find_intersection(
+                &Ray::new(Vec3::new(10.0, 10.0, 5.0), Vec3::new(0.0, 0.0, -1.0)),
+                T_EPS,
+                f32::INFINITY,
+            )
+            .unwrap();
+        let sun = Light::Directional {
+            direction: Vec3::new(-0.3, -0.2, -1.0),
+            intensity: Color::ONE,
+        };
+        let v = sun.to_light(h.anchor, h.rel);
+        let named = bvh.shadow_candidates(&h, &sun, v).count();
+        assert!((1..=16).contains(&named), "{named} of 1024");
+    }
+}

@@ -33,7 +33,11 @@ pub fn shade_local<const S: usize, const L: usize>(
 
 /// [`shade_local`] with `blocked(i, light, v)` also given the light and its [`to_light`] vector,
 /// which the shadow test needs too: [`shade_model`] of one hit.
-#[inline]
+// Always inlined on hosts, into the closure that shades a span's leftover pixels and their
+// secondary hits: left to the compiler, it went out of line there once the frame had a second
+// walk of secondary rays (through the hierarchy) beside the first.
+#[cfg_attr(lanes, inline(always))]
+#[cfg_attr(not(lanes), inline)]
 pub(crate) fn shade_lit<const S: usize, const L: usize>(
     scene: &Scene<S, L>,
     hit: &Hit,

@@ -70,6 +70,53 @@ pub fn find_from<const S: usize, const L: usize>(
     })
 }
 
+/// A closest-hit candidate: `t`, the sphere's index, its `f` and the sphere (which travels
+/// with the index: re-indexing `spheres` would link a bounds-check panic).
+pub(crate) type Closest<'s> = (f32, usize, Vec3, &'s Sphere);
+
+/// [`find_from`]'s first candidate: the ray's exit from the sphere of `hit`, which it leaves,
+/// found analytically (no epsilon), if it heads inside.
+#[inline(always)]
+pub(crate) fn leaving_own<'s>(spheres: &'s [Sphere], ray: &Ray, hit: &Hit) -> Option<Closest<'s>> {
+    let (from, offset) = (hit.sphere, hit.offset);
+    if let Some(s) = spheres.get(from) {
+        if let Some(t) = exit_root(offset, ray.dir) {
+            return Some((t, from, offset, s));
+        }
+    }
+    None
+}
+
+/// The hit record of [`find_from`]'s winner `found`, along `ray`, which leaves `hit`.
+#[inline(always)]
+pub(crate) fn closest_hit<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    ray: &Ray,
+    hit: &Hit,
+    (t, j, f, s): Closest<'_>,
+) -> Hit {
+    let near = offset_is_near(f, s.radius, scene.near2(j));
+    make_hit(ray, t, j, f, s, near, hit.anchor, hit.rel)
+}
+
+/// How a walk of secondary rays finds each ray's hit: [`find_from`] over every sphere
+/// ([`EverySphere`]), or a renderer's culled search for the same hit.
+pub(crate) trait FindFrom<const S: usize, const L: usize>: Copy {
+    /// The closest hit of `ray`, which leaves the hit `from`: [`find_from`]'s.
+    fn find(self, scene: &Scene<S, L>, ray: &Ray, from: &Hit) -> Option<Hit>;
+}
+
+/// [`find_from`] itself: every sphere asked. No data, so a walk with it takes no argument more.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct EverySphere;
+
+impl<const S: usize, const L: usize> FindFrom<S, L> for EverySphere {
+    #[inline(always)]
+    fn find(self, scene: &Scene<S, L>, ray: &Ray, from: &Hit) -> Option<Hit> {
+        find_from(scene, ray, from)
+    }
+}
+
 /// The colour seen along a ray: the hit's local colour plus what its mirror and refracted rays
 /// see, or the background when nothing is hit.
 ///
@@ -82,17 +129,19 @@ pub fn find_from<const S: usize, const L: usize>(
 /// ```
 pub fn trace<const S: usize, const L: usize>(scene: &Scene<S, L>, ray: &Ray) -> Color {
     let first = scene.find_intersection(ray, T_EPS, f32::INFINITY);
-    follow(scene, ray, first, |hit, ray, _| shade(scene, ray, hit))
+    let local = |hit: &Hit, ray: &Ray, _| shade(scene, ray, hit);
+    follow(scene, ray, first, local, EverySphere)
 }
 
 /// The colour along a primary ray whose first hit is `first`, each hit shaded with
-/// `local(hit, ray, primary)`, its secondary rays followed.
+/// `local(hit, ray, primary)`, its secondary rays followed, each finding its hit with `find`.
 #[inline]
 pub(crate) fn follow<const S: usize, const L: usize>(
     scene: &Scene<S, L>,
     primary: &Ray,
     first: Option<Hit>,
     mut local: impl FnMut(&Hit, &Ray, bool) -> Color,
+    find: impl FindFrom<S, L>,
 ) -> Color {
     // The primary hit on its own: most hits send no ray, and the walk, out of line, keeps its
     // state out of their registers.
@@ -100,7 +149,7 @@ pub(crate) fn follow<const S: usize, const L: usize>(
         return scene.background();
     };
     let colour = local(&h, primary, true);
-    follow_secondary(scene, primary, &h, colour, local)
+    follow_secondary(scene, primary, &h, colour, local, find)
 }
 
 /// [`follow`] after the primary hit `h`, whose local colour is `colour`: its secondary rays.
@@ -111,11 +160,12 @@ pub(crate) fn follow_secondary<const S: usize, const L: usize>(
     h: &Hit,
     colour: Color,
     mut local: impl FnMut(&Hit, &Ray, bool) -> Color,
+    find: impl FindFrom<S, L>,
 ) -> Color {
     if !scene.has_secondary() || !scene.sends_secondary(h.sphere) || scene.max_depth() == 0 {
         return colour;
     }
-    walk(scene, primary, h, colour, &mut local)
+    walk(scene, primary, h, colour, &mut local, find)
 }
 
 /// A secondary ray still to follow: `ray`, leaving the hit `from`, at `depth` (a primary ray's
@@ -152,12 +202,13 @@ fn walk<const S: usize, const L: usize>(
     first: &Hit,
     mut colour: Color,
     local: &mut impl FnMut(&Hit, &Ray, bool) -> Color,
+    find: impl FindFrom<S, L>,
 ) -> Color {
     let mut deferred = Deferred::new();
     let mut next = send(scene, ray, first, Color::ONE, 1, &mut deferred);
     while let Some(b) = next.or_else(|| deferred.pop()) {
         next = None;
-        let Some(h) = find_from(scene, &b.ray, &b.from) else {
+        let Some(h) = find.find(scene, &b.ray, &b.from) else {
             colour += b.weight.mul_elem(scene.background());
             continue;
         };

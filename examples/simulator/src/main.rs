@@ -152,7 +152,7 @@ fn run(args: Args) -> Result<(), Failure> {
         .view
         .camera(w, h)
         .map_err(|e| Failure(2, format!("--size {w}x{h}: {e}")))?;
-    // The desktop capacity's per-frame tables (0.7 MB): on the heap, filled anew each frame.
+    // The desktop capacity's per-frame tables (0.78 MB): on the heap, filled anew each frame.
     let mut storage = Box::new(FrameStorage::new());
     let mut display = SimulatorDisplay::<Rgb888>::new(args.size);
     match &args.headless {
