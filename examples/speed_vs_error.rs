@@ -1277,7 +1277,7 @@ fn main() {
     let mut fails = [0usize; 5];
     for name in &names {
         let file: Box<Desktop> = scene_file::load(format!("tests/hard/{name}.toml")).unwrap();
-        let mut storage = Box::new(microray::FrameStorage::new());
+        let mut storage = microray::FrameStorage::on_heap();
         let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage).unwrap();
         let reference = common::reference::Reference::new(&file);
         let (w, h) = (file.camera.width(), file.camera.height());

@@ -43,7 +43,7 @@ fn same<const S: usize, const L: usize>(
     camera: &Camera,
     options: RenderOptions,
 ) {
-    let mut storage = Box::new(FrameStorage::new());
+    let mut storage = FrameStorage::on_heap();
     let frame = Frame::new(scene, camera, options, &mut storage).unwrap();
     let (w, h) = (camera.width() as usize, camera.height() as usize);
     let mut fast = vec![Rgb888::new(0, 0, 0); w * h];
@@ -267,7 +267,7 @@ fn bands_of_any_height_render_the_whole_frame() {
     let camera = file.view.camera(160, 120).unwrap();
     scenes.push((file, camera));
     for (file, camera) in &scenes {
-        let mut storage = Box::new(FrameStorage::new());
+        let mut storage = FrameStorage::on_heap();
         let frame = Frame::new(&file.scene, camera, file.options, &mut storage).unwrap();
         let (w, h) = (camera.width() as usize, camera.height() as usize);
         let mut whole = vec![Rgb888::new(0, 0, 0); w * h];
@@ -422,7 +422,7 @@ fn screen_boxes_hold_every_hit() {
                 .add_sphere(Sphere::new(c, r), Material::default())
                 .unwrap();
         }
-        let mut storage = Box::new(FrameStorage::new());
+        let mut storage = FrameStorage::on_heap();
         let frame = Frame::new(&*scene, &camera, RenderOptions::default(), &mut storage).unwrap();
         for (s, sphere) in scene.spheres().iter().enumerate() {
             let k = Prepared::exact(camera.eye(), sphere);

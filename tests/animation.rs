@@ -13,7 +13,7 @@ use common::cli::{fails, run, scratch, stderr};
 
 /// `Frame::render`'s pixels for `camera`, as RGB bytes.
 fn rendered(file: &Desktop, camera: &Camera) -> Vec<u8> {
-    let mut storage = Box::new(FrameStorage::new());
+    let mut storage = FrameStorage::on_heap();
     let frame = Frame::new(&file.scene, camera, file.options, &mut storage).unwrap();
     let mut px = vec![Rgb888::BLACK; (camera.width() * camera.height()) as usize];
     frame.render(&mut px).unwrap();

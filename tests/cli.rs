@@ -512,7 +512,7 @@ fn a_scene_at_the_capacities_renders_and_one_more_is_an_error() {
         (scene_file::SPHERES, scene_file::LIGHTS)
     );
     let camera = file.view.camera(96, 72).unwrap();
-    let mut storage = Box::new(microray::FrameStorage::new());
+    let mut storage = microray::FrameStorage::on_heap();
     let frame = microray::Frame::new(&file.scene, &camera, file.options, &mut storage).unwrap();
     let mut want = vec![embedded_graphics::pixelcolor::Rgb888::new(0, 0, 0); 96 * 72];
     frame.render(&mut want).unwrap();

@@ -124,7 +124,7 @@ fn each_frame(
     mut f: impl FnMut(&str, &Frame<'_, { scene_file::SPHERES }, { scene_file::LIGHTS }>, &[Rgb888]),
 ) {
     for (path, file) in scenes() {
-        let mut storage = Box::new(FrameStorage::new());
+        let mut storage = FrameStorage::on_heap();
         let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage).unwrap();
         let mut whole = vec![Rgb888::BLACK; (frame.width() * frame.height()) as usize];
         frame.render(&mut whole).unwrap();
@@ -474,7 +474,7 @@ fn tiny_frames_and_odd_sizes() {
             h,
         )
         .unwrap();
-        let mut storage = Box::new(FrameStorage::new());
+        let mut storage = FrameStorage::on_heap();
         let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage).unwrap();
         let mut whole = vec![Rgb888::BLACK; (w * h) as usize];
         frame.render(&mut whole).unwrap();

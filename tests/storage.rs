@@ -3,13 +3,14 @@
 //! frame after frame.
 
 use embedded_graphics::pixelcolor::Rgb888;
+use microray::render::Heap;
 use microray::scene_file::{self, Desktop};
 use microray::{Camera, Frame, FrameStorage};
 
 fn render(
     file: &Desktop,
     camera: &Camera,
-    storage: &mut FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }>,
+    storage: &mut FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }, Heap>,
 ) -> Vec<Rgb888> {
     let frame = Frame::new(&file.scene, camera, file.options, storage).unwrap();
     let mut image = vec![Rgb888::new(0, 0, 0); (camera.width() * camera.height()) as usize];
@@ -28,8 +29,8 @@ const SMALL_STACK: usize = if cfg!(debug_assertions) {
     64 << 10
 };
 
-fn desktop_storage() -> Box<FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }>> {
-    Box::new(FrameStorage::new())
+fn desktop_storage() -> FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }, Heap> {
+    FrameStorage::on_heap()
 }
 
 fn load(path: &str) -> (Box<Desktop>, Camera) {

@@ -248,7 +248,7 @@ fn render(
     std::thread::scope(|s| {
         if threads == 1 {
             // The per-frame tables on the heap, allocated before the clock.
-            let mut storage = Box::new(FrameStorage::new());
+            let mut storage = FrameStorage::on_heap();
             let start = Instant::now();
             let made = Frame::new(scene, camera, options, &mut storage);
             made.as_ref().map(work).map_err(|&e| failed(e))?;
@@ -258,7 +258,7 @@ fn render(
         let mut spawned = Vec::with_capacity(workers);
         for _ in 0..workers {
             let worker = std::thread::Builder::new().spawn_scoped(s, || {
-                let mut storage = Box::new(FrameStorage::new());
+                let mut storage = FrameStorage::on_heap();
                 ready.fetch_add(1, Ordering::Release);
                 loop {
                     match state.load(Ordering::Acquire) {

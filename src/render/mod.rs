@@ -139,11 +139,23 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     samples: u32,
     encoding: Encoding,
     /// The per-frame tables, in the caller's storage.
-    tables: &'a FrameStorage<S, L>,
+    tables: Tables<'a, S, L>,
     /// Shadows on and at least one light: the only case that casts shadow rays.
     shadow_rays: bool,
     /// Secondary rays go through the hierarchy in `tables` (`bvh.rs`): the frame has one.
     culls: bool,
+}
+
+/// A frame's view of its [`FrameStorage`], wherever its tables live.
+#[derive(Debug, Clone, Copy)]
+struct Tables<'a, const S: usize, const L: usize> {
+    eye: &'a [Prepared],
+    boxes: &'a [PixelBox],
+    lights: &'a [heapless::Vec<f32, S>; L],
+    sweeps: &'a [Sweep<S>],
+    all: &'a [SphereId],
+    near: &'a [bool],
+    bvh: &'a Bvh<S>,
 }
 
 /// Sphere ids: a row's, a span's or a light's candidates.
@@ -171,11 +183,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// assert_eq!(Frame::new(&scene, &cam, bad, &mut storage).err(), Some(Error::InvalidSamples));
     /// # Ok::<(), microray::Error>(())
     /// ```
-    pub fn new(
+    pub fn new<P: Place>(
         scene: &'a Scene<S, L>,
         camera: &'a Camera,
         options: RenderOptions,
-        storage: &'a mut FrameStorage<S, L>,
+        storage: &'a mut FrameStorage<S, L, P>,
     ) -> Result<Self, Error> {
         #[allow(clippy::let_unit_value)]
         let () = Self::FITS;
@@ -188,7 +200,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             camera,
             samples: options.samples as u32,
             encoding: options.encoding,
-            tables: storage,
+            tables: Tables {
+                eye: &storage.eye,
+                boxes: &storage.boxes,
+                lights: &storage.lights,
+                sweeps: storage.sweeps.get(..storage.swept).unwrap_or(&[]),
+                all: &storage.all,
+                near: &storage.near,
+                bvh: &storage.bvh,
+            },
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),
             culls: Self::SWEEPS && storage.bvh.built(),
         })
@@ -241,6 +261,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// # Ok::<(), microray::Error>(())
     /// ```
     pub fn boxes(&self) -> &[PixelBox] {
-        &self.tables.boxes
+        self.tables.boxes
     }
 }

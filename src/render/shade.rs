@@ -95,7 +95,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// of their frame time (a larger loop, and the shadow test no longer inlined).
     #[inline(never)]
     fn follow_culled(&self, ray: &Ray, h: &Hit, colour: Color) -> Color {
-        let (local, find) = (self.bounce::<true>(), Culled(&self.tables.bvh));
+        let (local, find) = (self.bounce::<true>(), Culled(self.tables.bvh));
         crate::shading::follow_secondary(self.scene, ray, h, colour, local, find)
     }
 
@@ -181,7 +181,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         i: usize,
     ) -> &'c [SphereId] {
         // A slice in both cases: one copy of the shadow tests, and a tight loop.
-        lists.and_then(|l| l.light(i)).unwrap_or(&self.tables.all)
+        lists.and_then(|l| l.light(i)).unwrap_or(self.tables.all)
     }
 
     /// Whether light `i` is blocked at `hit` (`v` its `to_light` vector), testing the

@@ -9,11 +9,14 @@ use super::*;
 /// its shadow candidates; and (above 16 spheres, for scenes with mirrors or glass) the
 /// hierarchy that culls secondary rays.
 ///
-/// Its size grows with the capacity `S × L` of the scene (about 0.78 MB at `Scene<1024, 32>`, a
-/// few hundred bytes at `Scene<8, 2>`), so the caller chooses where it lives: on the heap on a
-/// desktop (`Box::new(FrameStorage::new())`), in a `static` or on the stack of a
-/// microcontroller. A [`Frame`] borrows it for its lifetime; building another frame in the same
-/// storage overwrites it, so one storage serves every frame of an animation.
+/// Its size grows with the capacity `S × L` of the scene (about 0.8 MB at `Scene<1024, 32>`,
+/// 12.7 MB at `Scene<16384, 32>`, a few hundred bytes at `Scene<8, 2>`), so the caller chooses
+/// where it lives: on the heap on a desktop ([`FrameStorage::on_heap`], each table boxed on
+/// its own; `Box::new(FrameStorage::new())` only where an unoptimised build may hold the
+/// whole storage on the stack first), in a `static` or on the stack of a microcontroller
+/// ([`FrameStorage::new`], the [`Inline`] layout). A [`Frame`] borrows it for its lifetime;
+/// building another frame in the same storage overwrites it, so one storage serves every frame
+/// of an animation.
 ///
 /// ```
 /// use embedded_graphics::pixelcolor::Rgb888;
@@ -27,29 +30,104 @@ use super::*;
 /// frame.render_rows(0, &mut row)?;
 /// # Ok::<(), microray::Error>(())
 /// ```
-#[derive(Debug)]
-pub struct FrameStorage<const S: usize, const L: usize> {
-    pub(super) eye: heapless::Vec<Prepared, S>,
-    pub(super) boxes: heapless::Vec<PixelBox, S>,
+pub struct FrameStorage<const S: usize, const L: usize, P: Place = Inline> {
+    pub(super) eye: P::Slot<heapless::Vec<Prepared, S>>,
+    pub(super) boxes: P::Slot<heapless::Vec<PixelBox, S>>,
     /// Per light, in scene order: for a point light with shadows, `c` of [`Prepared::exact`]
     /// from the light for every sphere (the rest of those constants is rebuilt exactly when
     /// needed); empty for the others.
-    pub(super) lights: [heapless::Vec<f32, S>; L],
+    pub(super) lights: P::Slot<[heapless::Vec<f32, S>; L]>,
     /// Per light, in scene order, when shadows are on and `SWEEPS`: its spheres sorted for
-    /// the span culling.
-    pub(super) sweeps: heapless::Vec<Sweep<S>, L>,
+    /// the span culling, in the first `swept` slots (kept, and cleared in place, from frame to
+    /// frame: no sweep is built elsewhere and moved in).
+    pub(super) sweeps: P::Slot<[Sweep<S>; L]>,
+    pub(super) swept: usize,
+    /// Where a sweep is sorted before it is split into its fields (`Sweep::fill`): one for
+    /// all the lights, so that no capacity-sized list is built on the stack.
+    pub(super) entries: P::Slot<heapless::Vec<Entry, S>>,
     /// Every sphere's index: the candidate list of a shadow ray that must test them all, so
     /// that every shadow ray walks a plain slice.
-    pub(super) all: List<S>,
+    pub(super) all: P::Slot<List<S>>,
     /// Per sphere, [`Frame::offset_near`]'s answer, decided once.
-    pub(super) near: heapless::Vec<bool, S>,
+    pub(super) near: P::Slot<heapless::Vec<bool, S>>,
     /// The hierarchy that culls secondary rays, where the scene has them and `SWEEPS`.
-    pub(super) bvh: Bvh<S>,
+    pub(super) bvh: P::Slot<Bvh<S>>,
 }
 
-impl<const S: usize, const L: usize> FrameStorage<S, L> {
+impl<const S: usize, const L: usize, P: Place> core::fmt::Debug for FrameStorage<S, L, P> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("FrameStorage")
+            .field("eye", &*self.eye)
+            .field("boxes", &*self.boxes)
+            .field("lights", &*self.lights)
+            .field("sweeps", &self.sweeps.get(..self.swept))
+            .field("all", &*self.all)
+            .field("near", &*self.near)
+            .field("bvh", &*self.bvh)
+            .finish()
+    }
+}
+
+/// Where a [`FrameStorage`]'s tables live: [`Inline`] in the storage itself (no heap: on the
+/// stack, in a `static` or in a `Box` of the whole), or [`Heap`] (feature `std`) each table in
+/// a box of its own.
+pub trait Place: sealed::Sealed {
+    /// A table of type `T`, as the storage holds it.
+    type Slot<T>: core::ops::DerefMut<Target = T>;
+}
+
+mod sealed {
+    pub trait Sealed {}
+}
+
+/// A [`FrameStorage`] that holds its tables itself: [`FrameStorage::new`], a `const fn`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Inline;
+
+/// A table held inline, in a [`FrameStorage<S, L, Inline>`](FrameStorage) (see [`Place`]).
+#[derive(Debug)]
+pub struct InlineSlot<T>(T);
+
+impl<T> core::ops::Deref for InlineSlot<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}
+
+impl<T> core::ops::DerefMut for InlineSlot<T> {
+    fn deref_mut(&mut self) -> &mut T {
+        &mut self.0
+    }
+}
+
+impl sealed::Sealed for Inline {}
+impl Place for Inline {
+    type Slot<T> = InlineSlot<T>;
+}
+
+/// A [`FrameStorage`] whose tables are each boxed on the heap ([`FrameStorage::on_heap`];
+/// feature `std`): built without a storage-sized value on the stack, however large the
+/// capacity and whether or not the build is optimised.
+#[cfg(feature = "std")]
+#[cfg_attr(docsrs, doc(cfg(feature = "std")))]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Heap;
+
+#[cfg(feature = "std")]
+impl sealed::Sealed for Heap {}
+#[cfg(feature = "std")]
+impl Place for Heap {
+    type Slot<T> = std::boxed::Box<T>;
+}
+
+impl<const S: usize, const L: usize> FrameStorage<S, L, Inline> {
     /// Empty storage; [`Frame::new`] fills it. A `const fn`, so it can initialise a `static`,
     /// and it writes nothing but lengths, so a large one costs nothing until it is filled.
+    ///
+    /// An unoptimised build may still build it on the stack before moving it into a `Box`
+    /// (`Box::new(FrameStorage::new())`): at a large capacity take
+    /// [`FrameStorage::on_heap`] instead.
     ///
     /// ```
     /// use microray::FrameStorage;
@@ -64,21 +142,97 @@ impl<const S: usize, const L: usize> FrameStorage<S, L> {
     }
 
     const EMPTY: Self = FrameStorage {
-        eye: heapless::Vec::new(),
-        boxes: heapless::Vec::new(),
-        lights: [const { heapless::Vec::new() }; L],
-        sweeps: heapless::Vec::new(),
-        all: heapless::Vec::new(),
-        near: heapless::Vec::new(),
-        bvh: Bvh::EMPTY,
+        eye: InlineSlot(heapless::Vec::new()),
+        boxes: InlineSlot(heapless::Vec::new()),
+        lights: InlineSlot([const { heapless::Vec::new() }; L]),
+        sweeps: InlineSlot([const { Sweep::empty() }; L]),
+        swept: 0,
+        entries: InlineSlot(heapless::Vec::new()),
+        all: InlineSlot(heapless::Vec::new()),
+        near: InlineSlot(heapless::Vec::new()),
+        bvh: InlineSlot(Bvh::EMPTY),
     };
+}
 
+#[cfg(feature = "std")]
+impl<const S: usize, const L: usize> FrameStorage<S, L, Heap> {
+    /// Empty storage whose tables are each on the heap (about 12.7 MB at `<16384, 32>`, the
+    /// desktop capacity): the storage itself is a few pointers. An unoptimised build copies
+    /// each empty table through the stack on its way into its box, one at a time (at most
+    /// 0.4 MB at the desktop capacity), where `Box::new(FrameStorage::new())` builds the whole
+    /// storage on the stack first. [`Frame::new`] fills it.
+    ///
+    /// ```
+    /// use microray::FrameStorage;
+    /// let storage = FrameStorage::<16384, 32, _>::on_heap();
+    /// assert!(core::mem::size_of_val(&storage) < 100);
+    /// ```
+    pub fn on_heap() -> Self {
+        FrameStorage {
+            eye: boxed(),
+            boxes: boxed(),
+            lights: boxed_array(),
+            sweeps: boxed_array(),
+            swept: 0,
+            entries: boxed(),
+            all: boxed(),
+            near: boxed(),
+            bvh: boxed(),
+        }
+    }
+}
+
+/// A table's empty value, a constant: [`boxed`] copies it from the binary into its box.
+#[cfg(feature = "std")]
+trait Empty {
+    const EMPTY: Self;
+}
+
+#[cfg(feature = "std")]
+impl<T, const N: usize> Empty for heapless::Vec<T, N> {
+    const EMPTY: Self = heapless::Vec::new();
+}
+
+#[cfg(feature = "std")]
+impl<const S: usize> Empty for Sweep<S> {
+    const EMPTY: Self = Sweep::empty();
+}
+
+#[cfg(feature = "std")]
+impl<const S: usize> Empty for Bvh<S> {
+    const EMPTY: Self = Bvh::<S>::EMPTY;
+}
+
+/// An empty table in a box. Safe Rust has no way to build a value in place on the heap, so an
+/// unoptimised build copies the constant through this function's frame: one table (at most
+/// 0.4 MB at the desktop capacity), never more, as each table has a call of its own.
+#[cfg(feature = "std")]
+#[inline(never)]
+fn boxed<T: Empty>() -> std::boxed::Box<T> {
+    std::boxed::Box::new(T::EMPTY)
+}
+
+/// `N` empty tables in a box, pushed one at a time, never the whole array on the stack.
+#[cfg(feature = "std")]
+#[inline(never)]
+fn boxed_array<T: Empty, const N: usize>() -> std::boxed::Box<[T; N]> {
+    let mut all = std::vec::Vec::with_capacity(N);
+    for _ in 0..N {
+        all.push(T::EMPTY);
+    }
+    // `N` values: the conversion cannot fail (and would only fall back to the stack).
+    all.into_boxed_slice()
+        .try_into()
+        .unwrap_or_else(|_| std::boxed::Box::new([const { T::EMPTY }; N]))
+}
+
+impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
     /// Fills the tables for `scene` seen by `camera`, in place: nothing of capacity size is
     /// built elsewhere and moved in.
     pub(super) fn fill(&mut self, scene: &Scene<S, L>, camera: &Camera, sweeps: bool) {
         self.eye.clear();
         self.boxes.clear();
-        self.sweeps.clear();
+        self.swept = 0;
         self.all.clear();
         self.near.clear();
         // Capacity S, at most S spheres (below `SphereId::REST`, `Frame::FITS`), and at most L
@@ -100,26 +254,27 @@ impl<const S: usize, const L: usize> FrameStorage<S, L> {
             self.bvh.fill(secondary.unwrap_or(&[]));
         }
         let axes = camera.basis();
-        for consts in &mut self.lights {
+        for consts in self.lights.iter_mut() {
             consts.clear();
         }
-        for (light, consts) in scene.lights().iter().zip(&mut self.lights) {
+        for (light, consts) in scene.lights().iter().zip(self.lights.iter_mut()) {
             if let (Some(origin), true) = (light.origin(), scene.shadows()) {
                 for s in scene.spheres() {
                     let _ = consts.push(Prepared::exact(origin, s).c);
                 }
             }
             if scene.shadows() && sweeps {
-                let _ = self.sweeps.push(Sweep::empty());
-                if let Some(sweep) = self.sweeps.last_mut() {
-                    sweep.fill(light, scene.spheres(), axes.0, axes.1);
+                if let Some(sweep) = self.sweeps.get_mut(self.swept) {
+                    sweep.clear();
+                    sweep.fill(light, scene.spheres(), axes.0, axes.1, &mut self.entries);
+                    self.swept += 1;
                 }
             }
         }
     }
 }
 
-impl<const S: usize, const L: usize> Default for FrameStorage<S, L> {
+impl<const S: usize, const L: usize> Default for FrameStorage<S, L, Inline> {
     fn default() -> Self {
         Self::new()
     }

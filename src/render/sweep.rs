@@ -99,8 +99,31 @@ impl<const S: usize> Sweep<S> {
         }
     }
 
-    /// Sorts `spheres` for `light` into this sweep, which must be empty.
-    pub(super) fn fill(&mut self, light: &Light, spheres: &[crate::Sphere], u: Vec3, v: Vec3) {
+    /// Empties the sweep in place, as [`Sweep::empty`] is (lengths and scalars only).
+    pub(super) fn clear(&mut self) {
+        self.wide.clear();
+        self.key.clear();
+        self.half.clear();
+        self.key2.clear();
+        self.sphere.clear();
+        self.hw_max = 0.0;
+        self.start.clear();
+        self.k_lo = 0.0;
+        self.per_key = 0.0;
+        self.axis = Vec3::ZERO;
+        self.axis2 = Vec3::ZERO;
+    }
+
+    /// Sorts `spheres` for `light` into this sweep, which must be empty, sorting them in
+    /// `all` (whatever it held is overwritten): no list of capacity size on the stack.
+    pub(super) fn fill(
+        &mut self,
+        light: &Light,
+        spheres: &[crate::Sphere],
+        u: Vec3,
+        v: Vec3,
+        all: &mut heapless::Vec<Entry, S>,
+    ) {
         // Keys across the light's direction (`LightKind::sweep_along`, else the view's),
         // where they spread the spheres the most.
         let along = light
@@ -121,7 +144,7 @@ impl<const S: usize> Sweep<S> {
         // scene's spheres seldom lie on both sides of a point light.
         self.axis2 = along.cross(axis).normalized().unwrap_or(Vec3::ZERO);
         let axis2 = self.axis2;
-        let mut all: heapless::Vec<Entry, S> = heapless::Vec::new();
+        all.clear();
         for (s, sphere) in spheres.iter().enumerate() {
             let (m, r) = (sphere.center, sphere.radius);
             let (key, half, key2) = light.sweep_entry(m, r, axis, axis2);
@@ -129,9 +152,14 @@ impl<const S: usize> Sweep<S> {
             let _ = all.push(e);
         }
         // "Wide": more than 8 times the median half-width.
-        let mut hws: heapless::Vec<f32, S> = all.iter().map(|e| e.half).collect();
+        // The half-widths sorted in `key`, which is empty until the sorted entries fill it.
+        let hws = &mut self.key;
+        for e in all.iter() {
+            let _ = hws.push(e.half);
+        }
         hws.sort_unstable_by(|a, b| a.total_cmp(b));
         let median = hws.get(hws.len() / 2).copied().unwrap_or(0.0);
+        hws.clear();
         let is_wide =
             |e: &Entry| !(e.half <= 8.0 * median && e.key.is_finite() && e.key2.is_finite());
         for e in all.iter().filter(|e| is_wide(e)) {
@@ -140,7 +168,7 @@ impl<const S: usize> Sweep<S> {
         all.retain(|e| !is_wide(e));
         all.sort_unstable_by(|a, b| a.key.total_cmp(&b.key));
         // At most S entries in all: none of the pushes can fail.
-        for e in &all {
+        for e in all.iter() {
             let _ = self.key.push(e.key);
             let _ = self.half.push(e.half);
             let _ = self.key2.push(e.key2);

@@ -53,7 +53,7 @@ pub fn render_file(path: &str) -> Image {
 }
 
 pub fn render(file: &Desktop) -> Image {
-    let mut storage = Box::new(microray::FrameStorage::new());
+    let mut storage = microray::FrameStorage::on_heap();
     let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage).unwrap();
     let (w, h) = (file.camera.width(), file.camera.height());
     let mut buf = vec![Rgb888::BLACK; (w * h) as usize];

@@ -20,6 +20,7 @@ use embedded_graphics_simulator::sdl2::Keycode;
 use embedded_graphics_simulator::{OutputSettings, SimulatorDisplay, SimulatorEvent, Window};
 use microray::animation::View;
 use microray::scene_file::{self, Desktop};
+use microray::render::Heap;
 use microray::{Camera, Frame, FrameStorage};
 
 const USAGE: &str = "usage: microray-simulator [SCENE.toml] [--size WxH] [--headless OUT.png] \
@@ -152,8 +153,8 @@ fn run(args: Args) -> Result<(), Failure> {
         .view
         .camera(w, h)
         .map_err(|e| Failure(2, format!("--size {w}x{h}: {e}")))?;
-    // The desktop capacity's per-frame tables (0.78 MB): on the heap, filled anew each frame.
-    let mut storage = Box::new(FrameStorage::new());
+    // The desktop capacity's per-frame tables (0.8 MB): on the heap, filled anew each frame.
+    let mut storage = FrameStorage::on_heap();
     let mut display = SimulatorDisplay::<Rgb888>::new(args.size);
     match &args.headless {
         Some(out) => {
@@ -180,7 +181,7 @@ fn run(args: Args) -> Result<(), Failure> {
 fn run_window(
     file: &Desktop,
     camera: Camera,
-    storage: &mut FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }>,
+    storage: &mut FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }, Heap>,
     display: &mut SimulatorDisplay<Rgb888>,
     exit_after: Option<Duration>,
 ) -> Result<(), Failure> {
@@ -292,7 +293,7 @@ enum Traced {
 fn trace(
     file: &Desktop,
     camera: &Camera,
-    storage: &mut FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }>,
+    storage: &mut FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }, Heap>,
     live: &mut Live<'_>,
 ) -> Result<Traced, Failure> {
     let start = Instant::now();
@@ -409,7 +410,7 @@ mod tests {
     fn the_display_gets_the_renderers_pixels() {
         let file = demo();
         let camera = file.view.camera(40, 30).unwrap();
-        let mut storage = Box::new(FrameStorage::new());
+        let mut storage = FrameStorage::on_heap();
         let mut display = SimulatorDisplay::<Rgb888>::new(Size::new(40, 30));
         let mut queued = Vec::new();
         let mut live = Live::new(&mut display, None, &mut queued);
