@@ -36,6 +36,22 @@ pub struct Camera {
 }
 
 impl Camera {
+    /// A value to overwrite, for a struct that holds a camera and is built as a constant
+    /// (`scene_file`: a file built in place on the heap); renders nothing meaningful.
+    #[cfg(feature = "scene-file")]
+    pub(crate) const PLACEHOLDER: Camera = Camera {
+        eye: Vec3::ZERO,
+        u: Vec3::ZERO,
+        v: Vec3::ZERO,
+        w: Vec3::ZERO,
+        width: 1,
+        height: 1,
+        sx: 0.0,
+        ox: 0.0,
+        sy: 0.0,
+        oy: 0.0,
+    };
+
     /// A camera at `eye` looking at `look_at`, with `vfov` the full vertical field of view in
     /// degrees, for a `width`×`height` image.
     ///

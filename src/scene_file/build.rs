@@ -213,17 +213,17 @@ impl Builder<'_> {
             self.err(span, field, e)
         })?;
 
-        // Built in place on the heap: a scene at the desktop capacity is over a megabyte, more
-        // than a thread's stack should hold, let alone the copies of a return by value.
-        let mut file = Box::new(SceneFile {
-            scene: Scene::new(),
-            camera,
-            view,
-            width,
-            height,
-            options,
-            keyframes: Keyframes::new(),
-        });
+        // Built in place on the heap: a scene at the desktop capacity is over a megabyte (1.3
+        // MB at 16384 spheres), more than a thread's stack should hold, let alone the copies
+        // of a return by value. A constant boxed, then its few small fields set: an
+        // unoptimised build holds one copy of it on the stack, where a struct built from
+        // `Scene::new()` and the fields would be two or three (more than a test thread's 2 MiB).
+        let mut file: Box<SceneFile<S, L>> = Box::new(SceneFile::EMPTY);
+        file.camera = camera;
+        file.view = view;
+        file.width = width;
+        file.height = height;
+        file.options = options;
         let scene = &mut file.scene;
         if let Some((bg, amb, shadows, depth)) = settings {
             scene.set_background(bg).expect("checked above");

@@ -63,7 +63,7 @@ use raw::*;
 
 /// The desktop renderer's sphere capacity ([`Desktop`]); a scene file with more spheres is
 /// [`SceneError`] naming the sphere that does not fit.
-pub const SPHERES: usize = 1024;
+pub const SPHERES: usize = 16384;
 
 /// The desktop renderer's light capacity ([`Desktop`]).
 pub const LIGHTS: usize = 32;
@@ -88,6 +88,27 @@ pub struct SceneFile<const S: usize, const L: usize> {
     pub options: RenderOptions,
     /// The camera's keyframes, if the file has any (then at least two).
     pub keyframes: Keyframes<KEYFRAMES>,
+}
+
+impl<const S: usize, const L: usize> SceneFile<S, L> {
+    /// An empty file to fill in place (`build.rs`): its camera and view are placeholders.
+    const EMPTY: Self = SceneFile {
+        scene: Scene::new(),
+        camera: Camera::PLACEHOLDER,
+        view: View {
+            eye: Vec3::ZERO,
+            look_at: Vec3::ZERO,
+            up: Vec3::ZERO,
+            vfov: 0.0,
+        },
+        width: 0,
+        height: 0,
+        options: RenderOptions {
+            samples: 1,
+            encoding: Encoding::Linear,
+        },
+        keyframes: Keyframes::new(),
+    };
 }
 
 pub use crate::animation::View;
