@@ -1,16 +1,16 @@
-//! A frame's tables live in storage the caller provides: a frame at the desktop capacity
-//! (`Scene<1024, 32>`) builds and renders on a thread with a small stack, and one storage serves
-//! frame after frame.
+//! A frame's tables live in storage the caller provides: a frame builds and renders on a thread
+//! with a small stack, a fraction of its tables, at 1024 spheres (`Scene<1024, 32>`) and at the
+//! desktop capacity (`Scene<16384, 32>`), and one storage serves frame after frame.
 
 use embedded_graphics::pixelcolor::Rgb888;
 use microray::render::Heap;
-use microray::scene_file::{self, Desktop};
+use microray::scene_file::{self, Desktop, SceneFile};
 use microray::{Camera, Frame, FrameStorage};
 
-fn render(
-    file: &Desktop,
+fn render<const S: usize>(
+    file: &SceneFile<S, { scene_file::LIGHTS }>,
     camera: &Camera,
-    storage: &mut FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }, Heap>,
+    storage: &mut FrameStorage<S, { scene_file::LIGHTS }, Heap>,
 ) -> Vec<Rgb888> {
     let frame = Frame::new(&file.scene, camera, file.options, storage).unwrap();
     let mut image = vec![Rgb888::new(0, 0, 0); (camera.width() * camera.height()) as usize];
@@ -18,45 +18,62 @@ fn render(
     image
 }
 
-/// Storage at the desktop capacity (0.78 MB). Built here, in one place: an unoptimised build
-/// gives every `Box::new(FrameStorage::new())` a stack slot of its own in the function that
-/// writes it, and three of them overflow a test thread's 2 MiB.
-/// The small stack: 64 KiB, or 256 KiB unoptimised (whose frames are larger). Either is a
-/// fraction of the storage's 0.78 MB, which so cannot be on it.
+/// The small stack of a frame at `Scene<1024, 32>`: 64 KiB, or 256 KiB unoptimised (whose
+/// frames are larger); it needs about 31 KiB (111 KiB unoptimised). Either is a fraction of the
+/// storage's 0.8 MB, which so cannot be on it.
 const SMALL_STACK: usize = if cfg!(debug_assertions) {
     256 << 10
 } else {
     64 << 10
 };
 
-fn desktop_storage() -> FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }, Heap> {
+/// The stack of a frame at the desktop capacity (`Scene<16384, 32>`): 256 KiB, or 512 KiB
+/// unoptimised. The per-row candidate lists are sized by the capacity, about 8.75 bytes a
+/// sphere on hosts (`Cull`'s three lists of two-byte sphere ids and `Found`'s one, 140 KiB
+/// at 16384 spheres), so a frame needs about 147 KiB of stack (366 KiB unoptimised): more than
+/// [`SMALL_STACK`], and still a fraction of the storage's 12.7 MB.
+const DESKTOP_STACK: usize = if cfg!(debug_assertions) {
+    512 << 10
+} else {
+    256 << 10
+};
+
+/// Storage on the heap, each table in a box of its own: `on_heap` puts no storage-sized value
+/// on the stack, even unoptimised (`Box::new(FrameStorage::new())` would, 12.7 MB at the
+/// desktop capacity).
+fn storage<const S: usize>() -> FrameStorage<S, { scene_file::LIGHTS }, Heap> {
     FrameStorage::on_heap()
 }
 
-fn load(path: &str) -> (Box<Desktop>, Camera) {
+fn desktop_storage() -> FrameStorage<{ scene_file::SPHERES }, { scene_file::LIGHTS }, Heap> {
+    storage()
+}
+
+fn load<const S: usize>(path: &str) -> (Box<SceneFile<S, { scene_file::LIGHTS }>>, Camera) {
     let file = scene_file::load(path).unwrap();
     let camera = file.view.camera(128, 96).unwrap();
     (file, camera)
 }
 
-/// The target scene (25 spheres, three lights, shadows) and 256 spheres (which build shadow
-/// sweeps) render on a small stack exactly as on the main thread.
-#[test]
-fn desktop_capacity_frame_renders_on_a_small_stack() {
+/// The target scene (25 spheres, three lights, shadows), 256 spheres (which build shadow
+/// sweeps) and 1024 mirrors (which build the hierarchy of secondary rays), at capacity `S`,
+/// render on a thread with a `stack`-byte stack exactly as on the main thread.
+fn renders_on_a_stack_of<const S: usize>(stack: usize) {
     for path in [
         "bench/scenes/target.toml",
         "bench/scenes/spread256_shadowed.toml",
+        "bench/scenes/mirrors1024.toml",
     ] {
-        let (file, camera) = load(path);
-        let expected = render(&file, &camera, &mut desktop_storage());
+        let (file, camera) = load::<S>(path);
+        let expected = render(&file, &camera, &mut storage());
         assert!(
             expected.iter().any(|&p| p != expected[0]),
             "{path}: a blank image proves nothing"
         );
-        let mut storage = desktop_storage();
+        let mut storage = storage();
         let small = std::thread::scope(|s| {
             std::thread::Builder::new()
-                .stack_size(SMALL_STACK)
+                .stack_size(stack)
                 .spawn_scoped(s, || render(&file, &camera, &mut storage))
                 .unwrap()
                 .join()
@@ -66,12 +83,29 @@ fn desktop_capacity_frame_renders_on_a_small_stack() {
     }
 }
 
+/// A frame at `Scene<1024, 32>` builds and renders on [`SMALL_STACK`].
+#[test]
+fn frame_of_1024_spheres_renders_on_a_small_stack() {
+    renders_on_a_stack_of::<1024>(SMALL_STACK);
+}
+
+/// A frame at the desktop capacity builds and renders on [`DESKTOP_STACK`].
+#[test]
+fn desktop_capacity_frame_renders_on_a_stated_stack() {
+    assert_eq!(
+        scene_file::SPHERES,
+        16384,
+        "DESKTOP_STACK is measured there"
+    );
+    renders_on_a_stack_of::<{ scene_file::SPHERES }>(DESKTOP_STACK);
+}
+
 /// A storage that held another frame's tables (more spheres, other lights) gives the pixels of a
 /// fresh one: `Frame::new` overwrites every table it reads.
 #[test]
 fn reused_storage_renders_as_fresh_storage() {
-    let (big, big_camera) = load("bench/scenes/spread256_shadowed.toml");
-    let (small, small_camera) = load("tests/data/lit.toml");
+    let (big, big_camera): (Box<Desktop>, _) = load("bench/scenes/spread256_shadowed.toml");
+    let (small, small_camera): (Box<Desktop>, _) = load("tests/data/lit.toml");
     let fresh = render(&small, &small_camera, &mut desktop_storage());
     let mut storage = desktop_storage();
     render(&big, &big_camera, &mut storage);
