@@ -63,8 +63,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// The shading of a secondary hit, whose shadow rays test the spheres the frame's
-    /// hierarchy names ([`Bvh`]) where `CULL`, else every sphere: one closure, and so one copy
-    /// of the out-of-line walk of secondary rays, for `shade_stored` and `shade_from`.
+    /// hierarchy names ([`Bvh`]) where `CULL`, else every sphere: one closure for each, and so
+    /// one copy of each out-of-line walk of secondary rays, which `shade_stored` and
+    /// `shade_from` share.
     #[inline(always)]
     fn bounce<const CULL: bool>(&self) -> impl FnMut(&Hit, &Ray, bool) -> Color + '_ {
         let scene = self.scene;
@@ -132,8 +133,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             });
             return self.follow_secondary(ray, &h, colour);
         }
-        // The walk's only caller: primary and secondary hits share one out-of-line copy of the
-        // shading.
+        // Without a hierarchy, primary and secondary hits share one out-of-line copy of the
+        // shading: the walk's only caller.
         let local = |hit: &Hit, ray: &Ray, primary: bool| {
             let lists = if primary { lists } else { None };
             shade_lit(scene, hit, ray.dir, |i, light, v| {
