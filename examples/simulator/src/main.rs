@@ -19,8 +19,8 @@ use embedded_graphics::text::{Baseline, Text};
 use embedded_graphics_simulator::sdl2::Keycode;
 use embedded_graphics_simulator::{OutputSettings, SimulatorDisplay, SimulatorEvent, Window};
 use microray::animation::View;
-use microray::scene_file::{self, Desktop};
 use microray::render::Heap;
+use microray::scene_file::{self, Desktop};
 use microray::{Camera, Frame, FrameStorage};
 
 const USAGE: &str = "usage: microray-simulator [SCENE.toml] [--size WxH] [--headless OUT.png] \
