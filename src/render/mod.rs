@@ -194,7 +194,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if !(1..=16).contains(&options.samples) {
             return Err(Error::InvalidSamples);
         }
-        storage.fill(scene, camera, Self::SWEEPS);
+        storage.fill(scene, camera);
         Ok(Frame {
             scene,
             camera,

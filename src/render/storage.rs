@@ -229,7 +229,10 @@ fn boxed_array<T: Empty, const N: usize>() -> std::boxed::Box<[T; N]> {
 impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
     /// Fills the tables for `scene` seen by `camera`, in place: nothing of capacity size is
     /// built elsewhere and moved in.
-    pub(super) fn fill(&mut self, scene: &Scene<S, L>, camera: &Camera, sweeps: bool) {
+    pub(super) fn fill(&mut self, scene: &Scene<S, L>, camera: &Camera) {
+        // The capacity decides, a constant: a capacity of 8 or less links neither the sweeps
+        // nor the hierarchy, whose storage then stays empty.
+        let sweeps = Frame::<'_, S, L>::SWEEPS;
         self.eye.clear();
         self.boxes.clear();
         self.swept = 0;
@@ -247,9 +250,7 @@ impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
             let _ = self.all.push(SphereId::new(s));
             let _ = self.eye.push(k);
         }
-        // A constant test: a capacity of 8 or less links none of the hierarchy, whose storage
-        // then stays empty.
-        if Frame::<'_, S, L>::SWEEPS {
+        if sweeps {
             let secondary = scene.has_secondary().then_some(scene.spheres());
             self.bvh.fill(secondary.unwrap_or(&[]));
         }
