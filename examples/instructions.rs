@@ -12,7 +12,10 @@ use microray::{Frame, RenderOptions};
 
 /// The measured part: every pixel of the frame, as the desktop renderer's bands do it.
 #[inline(never)]
-fn render_once(frame: &Frame<'_, 1024, 32>, pixels: &mut [Rgb888]) -> Result<u32, microray::Error> {
+fn render_once(
+    frame: &Frame<'_, { scene_file::SPHERES }, { scene_file::LIGHTS }>,
+    pixels: &mut [Rgb888],
+) -> Result<u32, microray::Error> {
     frame.render_rows(0, pixels)
 }
 
@@ -26,7 +29,7 @@ fn main() -> Result<(), String> {
         .camera(file.width, file.height)
         .map_err(|e| e.to_string())?;
     let options = RenderOptions { ..file.options };
-    let mut storage = Box::new(microray::FrameStorage::new());
+    let mut storage = microray::FrameStorage::on_heap();
     let frame =
         Frame::new(&file.scene, &camera, options, &mut storage).map_err(|e| e.to_string())?;
     let mut pixels = vec![Rgb888::BLACK; file.width as usize * file.height as usize];
