@@ -82,6 +82,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
             }
         }
+        self.narrow_span(cull);
+        let i1 = cull.span_end;
         cull.shadow.culled = false;
         cull.hits.kept = Kept::Nothing;
         // No group until this span's: `lists` finds none where the span builds no lists.

@@ -7,6 +7,10 @@
 use super::*;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
+    /// Spans keep their width here: one row's span holds few hit groups' worth of pixels.
+    #[inline(always)]
+    pub(super) fn narrow_span(&self, _cull: &mut Cull<S, L>) {}
+
     /// The closest primary hits of the span's pixels `i0..i1` for one sample (`ox`, row
     /// coordinate `y`) into the slots `base..`: view directions in `path`, `(t, sphere)` in
     /// `hit_t`/`hit_s` (`SphereId::NONE`: a miss). Sphere by sphere in scene order, each over

@@ -282,6 +282,46 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
     }
 
+    /// Narrows the span that `Frame::gather` is starting, and its spheres, where the boxes of
+    /// more than [`CROWD`] spheres meet it: to its first 8 columns if at most `DEEP` boxes meet
+    /// those, else to 16 (a deep pile of spheres, where narrower spans repeat each sphere's
+    /// set-up for little gain). The next span starts where this one ends: spans only group
+    /// pixels, whose hits and colours are the same whatever the width.
+    #[inline(always)]
+    pub(super) fn narrow_span(&self, cull: &mut Cull<S, L>) {
+        if cull.spheres.span.len() > CROWD {
+            self.narrow_crowded(cull);
+        }
+    }
+
+    /// [`Frame::narrow_span`] of a span that meets more than [`CROWD`] boxes.
+    #[inline(never)]
+    fn narrow_crowded(&self, cull: &mut Cull<S, L>) {
+        const DEEP: usize = 4 * CROWD;
+        let i0 = cull.span_start;
+        // How many of the span's boxes meet its first 16 and first 8 columns.
+        let (mut half, mut quarter) = (0, 0);
+        for s in &cull.spheres.span {
+            if let Some(b) = self.tables.boxes.get(s.index()) {
+                half += usize::from((b.i0 as u32) < i0 + 16);
+                quarter += usize::from((b.i0 as u32) < i0 + 8);
+            }
+        }
+        let end = i0
+            + if half > CROWD && quarter <= DEEP {
+                8
+            } else {
+                16
+            };
+        if end < cull.span_end {
+            cull.span_end = end;
+            let boxes = &self.tables.boxes;
+            cull.spheres
+                .span
+                .retain(|s| boxes.get(s.index()).is_some_and(|b| (b.i0 as u32) < end));
+        }
+    }
+
     /// [`Frame::start_row`] for the `n` rows from `j` that a span gathers at once (a tile,
     /// `Cull::rows`): their spheres are those whose box crosses any of them.
     pub(super) fn start_rows(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
@@ -331,10 +371,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         while j < end {
             let rows = tile.min(end - j);
             self.start_rows(j, rows, &mut cull);
-            for m in 0..self.width().div_ceil(SPAN as u32) {
-                let i = m * SPAN as u32;
+            let mut i = 0;
+            while i < self.width() {
                 cull.span_start = i;
                 cull.span_end = (i + SPAN as u32).min(self.width());
+                // Which may narrow the span (`Frame::narrow_span`).
                 self.gather(j, &mut cull);
                 for r in 0..rows {
                     cull.hits.path.base = r as usize * SPAN;
@@ -342,12 +383,20 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     let px = cull.hits.path.px.get(..cull.span_len()).unwrap_or(&[]);
                     out(TileRow { i, j: j + r, px })?;
                 }
+                i = cull.span_end;
             }
             j += rows;
         }
         Ok(())
     }
 }
+
+/// The most spheres' boxes a host's span should meet: a span that meets more is narrowed
+/// (`Frame::narrow_span`). Over many small spheres a tile of `SPAN` columns hits more spheres
+/// than it has hit groups (`GROUPS`), and the group of the rest then bounds points across the
+/// whole tile: its shadow candidates are all the spheres in the tile's shadow. A narrower span
+/// keeps each group's bound, and so its lists, to a few pixels.
+const CROWD: usize = 8;
 
 /// One row of one span of a tile (see [`Frame::tile_rows`]): the pixels `(i.., j)`.
 pub(crate) struct TileRow<'p> {
