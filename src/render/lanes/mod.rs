@@ -43,14 +43,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             return;
         };
         let points = self.shadow_rays.then_some((ps, os));
-        self.trace_lanes(
-            [dx, dy, dz],
-            ts,
-            ss,
-            points,
-            &cull.spheres.span,
-            (i0, i1, ox, y, row),
-        );
+        let span = &cull.spheres.span;
+        let at = (i0, i1, ox, y, row);
+        if span.len() > DEEP {
+            self.trace_lanes::<PAD, true>([dx, dy, dz], ts, ss, points, span, at);
+        } else {
+            self.trace_lanes::<PAD, false>([dx, dy, dz], ts, ss, points, span, at);
+        }
     }
 
     /// `trace_span` `LANES` columns at a time: the view directions
@@ -59,8 +58,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// go to the span's arrays by coordinate (`Cull::hit_dc`), padded to whole lanes: their
     /// lanes past the span hold whatever they held, which only lanes that are not the span's
     /// read.
+    ///
+    /// `PILE` (spans that meet more than [`DEEP`] boxes, a deep pile of spheres): a group of lanes skips a sphere whose
+    /// every root lies beyond the lanes' closest hits so far, which the test would reject
+    /// (a hit needs its root at or before them). In a pile of spheres most lie behind the
+    /// first few hits, whatever their order.
     #[inline(always)]
-    pub(super) fn trace_lanes<const PAD: usize>(
+    pub(super) fn trace_lanes<const PAD: usize, const PILE: bool>(
         &self,
         [dx, dy, dz]: [&mut [f32; PAD]; 3],
         ts: &mut [f32],
@@ -75,6 +79,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let (mut t, mut sp) = ([f32::INFINITY; PAD], [SphereId::NONE; PAD]);
         let len = ts.len().min(SPAN);
         let lane = F::from(core::array::from_fn(|l| l as f32));
+        // The longest direction's squared length (`PILE`).
+        let mut dd = F::splat(0.0);
         for m in (0..len).step_by(LANES) {
             // `primary_ray(i, j, sx, sy, n)`: pixel column i at `i + ox`. Columns (below
             // `MAX_SIZE` + `LANES`) are exact in f32, so the lanes' `(i0 + m) + l` is each
@@ -82,6 +88,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let x = F::splat((i0 + m as u32) as f32) + lane;
             let x = (x + F::splat(ox)).to_array();
             let [x, y, z] = self.camera.directions4(x, y);
+            if PILE {
+                let (a, b, c) = (F::from(x), F::from(y), F::from(z));
+                dd = dd.max(a * a + b * b + c * c);
+            }
             let lanes = m..m + LANES;
             if let (Some(a), Some(b), Some(c)) = (
                 dx.get_mut(lanes.clone()),
@@ -93,6 +103,15 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 c.copy_from_slice(&z);
             }
         }
+        let d_max = if PILE {
+            libm::sqrtf(
+                dd.to_array()
+                    .iter()
+                    .fold(0.0, |a: f32, &b| if b > a { b } else { a }),
+            )
+        } else {
+            0.0
+        };
         for &sphere in span {
             let (Some(b), Some(k)) = (
                 self.tables.boxes.get(sphere.index()),
@@ -117,12 +136,17 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 continue;
             }
             let hb = k.hearn_baker();
+            let near = if PILE { nearest_root(k, d_max) } else { 0.0 };
             let mut m = lo;
             while m < hi {
                 let lanes = |a: &[f32; PAD]| -> [f32; LANES] {
                     core::array::from_fn(|l| a.get(m + l).copied().unwrap_or(0.0))
                 };
                 let (x, y, z, tm) = (lanes(dx), lanes(dy), lanes(dz), lanes(&t));
+                if PILE && near > tm.iter().fold(0.0, |a: f32, &b| if b > a { b } else { a }) {
+                    m += LANES;
+                    continue;
+                }
                 let h = k.hit_lanes(hb, x, y, z, T_EPS, tm);
                 // Lanes past the box's last column are not its to change.
                 let valid = if hi - m >= LANES {
@@ -283,7 +307,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// Narrows the span that `Frame::gather` is starting, and its spheres, where the boxes of
-    /// more than [`CROWD`] spheres meet it: to its first 8 columns if at most `DEEP` boxes meet
+    /// more than [`CROWD`] spheres meet it: to its first 8 columns if at most [`DEEP`] boxes meet
     /// those, else to 16 (a deep pile of spheres, where narrower spans repeat each sphere's
     /// set-up for little gain). The next span starts where this one ends: spans only group
     /// pixels, whose hits and colours are the same whatever the width.
@@ -297,7 +321,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// [`Frame::narrow_span`] of a span that meets more than [`CROWD`] boxes.
     #[inline(never)]
     fn narrow_crowded(&self, cull: &mut Cull<S, L>) {
-        const DEEP: usize = 4 * CROWD;
         let i0 = cull.span_start;
         // How many of the span's boxes meet its first 16 and first 8 columns.
         let (mut half, mut quarter) = (0, 0);
@@ -391,12 +414,33 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 }
 
+/// A lower bound on every root of a primary ray with a direction no longer than `d_max` on
+/// the sphere of the eye's constants `k`: the distance to the sphere over `d_max`, `|f| − r`
+/// written as `c / (|f| + r)` (`c = |f|² − r²` is accurate where the difference cancels, an
+/// eye near the surface), and shrunk by 2⁻¹⁰, far beyond the roots' rounding (a few ulp; a
+/// grazing root's larger error is about a root near `√(|f|² − r²)`, well past the bound).
+/// Zero, which bounds nothing, for an eye inside or on the sphere, and where the constants
+/// overflow (NaN).
+#[inline(always)]
+pub(super) fn nearest_root(k: &crate::Prepared, d_max: f32) -> f32 {
+    let near = k.c / ((libm::sqrtf(k.f.dot(k.f)) + k.r) * d_max) * (1.0 - 1.0 / 1024.0);
+    if near > 0.0 {
+        near
+    } else {
+        0.0
+    }
+}
+
 /// The most spheres' boxes a host's span should meet: a span that meets more is narrowed
 /// (`Frame::narrow_span`). Over many small spheres a tile of `SPAN` columns hits more spheres
 /// than it has hit groups (`GROUPS`), and the group of the rest then bounds points across the
 /// whole tile: its shadow candidates are all the spheres in the tile's shadow. A narrower span
 /// keeps each group's bound, and so its lists, to a few pixels.
 const CROWD: usize = 8;
+
+/// The spheres' boxes from which a span's spheres are a deep pile (see `Frame::narrow_span`
+/// and `Frame::trace_lanes`).
+const DEEP: usize = 4 * CROWD;
 
 /// One row of one span of a tile (see [`Frame::tile_rows`]): the pixels `(i.., j)`.
 pub(crate) struct TileRow<'p> {
