@@ -130,8 +130,14 @@ impl Crc32 {
     #[inline]
     pub fn update(&mut self, bytes: &[u8]) {
         for &b in bytes {
-            self.state = CRC_TABLE[((self.state ^ b as u32) & 0xFF) as usize] ^ (self.state >> 8);
+            self.byte(b);
         }
+    }
+
+    /// Folds one byte in.
+    #[inline(always)]
+    pub fn byte(&mut self, b: u8) {
+        self.state = CRC_TABLE[((self.state ^ b as u32) & 0xFF) as usize] ^ (self.state >> 8);
     }
 
     /// The CRC-32 of everything folded in so far.
@@ -169,7 +175,9 @@ impl<const W: u32, const H: u32> CrcDisplay<W, H> {
 
     #[inline]
     fn fold(&mut self, c: Rgb888) {
-        self.crc.update(&[c.r(), c.g(), c.b()]);
+        self.crc.byte(c.r());
+        self.crc.byte(c.g());
+        self.crc.byte(c.b());
         self.pixels += 1;
     }
 }
