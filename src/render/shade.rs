@@ -70,13 +70,24 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     fn bounce<const CULL: bool>(&self) -> impl FnMut(&Hit, &Ray, bool) -> Color + '_ {
         let scene = self.scene;
         move |hit, ray, _| {
+            if !CULL {
+                return self.shade_hit(hit, ray.dir, None);
+            }
             shade_lit(scene, hit, ray.dir, |i, light, v| {
-                if CULL {
-                    return self.blocked_culled(hit, i, light, v);
-                }
-                self.blocked(hit, None, i, light, v)
+                self.blocked_culled(hit, i, light, v)
             })
         }
+    }
+
+    /// The shading of a hit that is not a span's stored one: `shade_from`'s primary hit (with
+    /// its lists) and the secondary hits of the walk without a hierarchy (with none). Out of
+    /// line: one copy for both beside `shade_stored`'s inlined one, where each caller inlined
+    /// its own (M4F: 1 KiB of flash).
+    #[inline(never)]
+    fn shade_hit(&self, hit: &Hit, dir: Vec3, lists: Option<Lists<'_, L>>) -> Color {
+        shade_lit(self.scene, hit, dir, |i, light, v| {
+            self.blocked(hit, lists, i, light, v)
+        })
     }
 
     /// Walks the secondary rays of the primary hit `h` along `ray`, whose local colour is
@@ -115,7 +126,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Shades a primary hit (and its secondary rays): `lists`, when given, holds per light
     /// the spheres that can block shadow rays from this primary hit; secondary hits and missing
     /// `lists` test every sphere, or those the frame's hierarchy names.
-    #[inline]
+    ///
+    /// Out of line where [`INLINE_SHADING`] (Cortex-M speed builds): the pixel loop shades its
+    /// stored hits itself and calls this for the few others; inlined there it would only
+    /// lengthen that loop.
+    #[cfg_attr(any(lanes, size_opt), inline)]
+    #[cfg_attr(not(any(lanes, size_opt)), inline(never))]
     pub(super) fn shade_from(
         &self,
         ray: &Ray,
@@ -128,9 +144,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let Some(h) = first else {
                 return scene.background();
             };
-            let colour = shade_lit(scene, &h, ray.dir, |i, light, v| {
-                self.blocked(&h, lists, i, light, v)
-            });
+            let colour = self.shade_hit(&h, ray.dir, lists);
             return self.follow_secondary(ray, &h, colour);
         }
         // Without a hierarchy, primary and secondary hits share one out-of-line copy of the
