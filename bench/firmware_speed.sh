@@ -38,7 +38,9 @@ s = s.replace("""    let _ = frame.draw(&mut display);
         let _ = frame.draw(&mut display);
     }
     (display.crc.value(), display.pixels)""")
-if "fn render_rows_dithered" not in open(root + "/src/output.rs").read():
+import glob
+output = "".join(open(f).read() for f in glob.glob(root + "/src/output*.rs") + glob.glob(root + "/src/output/*.rs"))
+if "fn render_rows_dithered" not in output:
     s = s.replace("frame.render_rows_dithered(row, strip)?", "frame.render_rows(row, strip)?")
 s = s.replace("""    scene.add_light(Light::Point {""", """    if option_env!("MR_SPHERES16").is_some() {
         for k in 0..11 {
