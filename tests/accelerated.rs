@@ -248,6 +248,69 @@ fn accelerated_equals_brute_force_on_the_scaling_scenes() {
     }
 }
 
+/// Thousands of spheres, where hosts narrow crowded spans, skip spheres behind a deep pile's
+/// first hits, and keep their shadow sweeps in slabs (from 4096 spheres a light): a wall, a
+/// grid of 4096 small spheres over the screen, and 400 packed in a ball at its centre, under a
+/// point and a directional light with shadows.
+#[test]
+fn accelerated_equals_brute_force_with_4500_spheres() {
+    let mut scene: Box<Scene<4600, 4>> = Box::new(Scene::new());
+    scene.set_shadows(true);
+    scene.set_ambient(Color::splat(0.1)).unwrap();
+    let m = |c: Color| Material {
+        diffuse: c,
+        specular: Color::splat(0.3),
+        shininess: 16.0,
+        ..Material::default()
+    };
+    scene
+        .add_sphere(
+            Sphere::new(Vec3::new(0.0, 0.0, -1002.0), 1000.0),
+            m(Color::splat(0.7)),
+        )
+        .unwrap();
+    let mut rng = Rng(0x4500);
+    for k in 0..4096 {
+        let (x, y) = ((k % 64) as f32, (k / 64) as f32);
+        let c = Vec3::new(
+            -4.5 + (x + 0.5) * 0.140625,
+            3.4 - (y + 0.5) * 0.10546875,
+            0.0,
+        );
+        scene
+            .add_sphere(Sphere::new(c, 0.05), m(rng.color()))
+            .unwrap();
+    }
+    for _ in 0..400 {
+        let c = rng.vec(0.6) + Vec3::new(0.0, 0.0, 1.0);
+        scene
+            .add_sphere(Sphere::new(c, 0.08), m(rng.color()))
+            .unwrap();
+    }
+    scene
+        .add_light(Light::Point {
+            position: Vec3::new(3.0, 5.0, 8.0),
+            intensity: Color::splat(0.6),
+        })
+        .unwrap();
+    scene
+        .add_light(Light::Directional {
+            direction: Vec3::new(-0.3, -0.5, -1.0),
+            intensity: Color::splat(0.3),
+        })
+        .unwrap();
+    let camera = Camera::new(
+        Vec3::new(0.0, 0.0, 10.0),
+        Vec3::ZERO,
+        Vec3::new(0.0, 1.0, 0.0),
+        40.0,
+        96,
+        72,
+    )
+    .unwrap();
+    same(&scene, &camera, RenderOptions::default());
+}
+
 /// `render_rows` gathers a span's rows several at a time (with one sample a pixel and
 /// shadows): bands of any height, starting at any row, render the pixels of the whole frame,
 /// and so do the row iterator's pixels (`Frame::row`, one row at a time).

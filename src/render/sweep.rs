@@ -35,6 +35,10 @@ pub(super) struct Sweep<const S: usize> {
     /// The smallest key, and buckets per unit of key (zero: one bucket).
     pub(super) k_lo: f32,
     pub(super) per_key: f32,
+    /// The buckets are slabs (hosts, [`SLABS_FROM`] entries or more): a few long ones, each
+    /// sorted by `key2` instead of `key`, so that a search takes the entries near the span in
+    /// both keys, not all those in a slab across the scene.
+    pub(super) slabs: bool,
     /// The key axis (unit, across the light: a point light's mean direction to the spheres).
     pub(super) axis: Vec3,
     /// A second axis (unit, across the light and `axis`), whose coordinates are each entry's
@@ -42,6 +46,11 @@ pub(super) struct Sweep<const S: usize> {
     /// a slab.
     pub(super) axis2: Vec3,
 }
+
+/// The entries from which a host's sweep keeps slabs sorted by the second key
+/// ([`Sweep::slabs`]): below it a scan of the band's few entries costs less than a search per
+/// slab.
+pub(super) const SLABS_FROM: usize = 4096;
 
 /// One sphere in a [`Sweep`], while it is built.
 #[derive(Debug, Clone, Copy)]
@@ -78,6 +87,7 @@ impl<const S: usize> Sweep<S> {
             start: heapless::Vec::new(),
             k_lo: 0.0,
             per_key: 0.0,
+            slabs: false,
             axis: Vec3::ZERO,
             axis2: Vec3::ZERO,
         }
@@ -110,6 +120,7 @@ impl<const S: usize> Sweep<S> {
         self.start.clear();
         self.k_lo = 0.0;
         self.per_key = 0.0;
+        self.slabs = false;
         self.axis = Vec3::ZERO;
         self.axis2 = Vec3::ZERO;
     }
@@ -166,6 +177,12 @@ impl<const S: usize> Sweep<S> {
             let _ = self.wide.push(e.sphere);
         }
         all.retain(|e| !is_wide(e));
+        self.arrange(all);
+    }
+
+    /// Fills the sorted fields from `all` (the spheres that are not wide), which it sorts, and
+    /// indexes them.
+    pub(super) fn arrange(&mut self, all: &mut heapless::Vec<Entry, S>) {
         all.sort_unstable_by(|a, b| a.key.total_cmp(&b.key));
         // At most S entries in all: none of the pushes can fail.
         for e in all.iter() {
@@ -175,7 +192,40 @@ impl<const S: usize> Sweep<S> {
             let _ = self.sphere.push(e.sphere);
             self.hw_max = self.hw_max.max(e.half);
         }
-        self.index();
+        let n = all.len();
+        if cfg!(lanes) && n >= SLABS_FROM {
+            // About √n / 2 slabs of 2√n entries: a search meets a slab or two, and in each
+            // the entries of its window of `key2`.
+            self.index((libm::sqrtf(n as f32) * 0.5) as usize);
+            self.slabs = true;
+            self.sort_slabs(all);
+        } else {
+            self.index((n / 4).max(1));
+        }
+    }
+
+    /// Sorts each bucket's entries by `key2` (through `all`, the entries in key order): the
+    /// buckets stay where they are, a bucket being a run of keys (`bucket` is monotonic).
+    fn sort_slabs(&mut self, all: &mut heapless::Vec<Entry, S>) {
+        for b in 0..self.start.len().saturating_sub(1) {
+            let (Some(&lo), Some(&hi)) = (self.start.get(b), self.start.get(b + 1)) else {
+                continue;
+            };
+            let Some(run) = all.get_mut(lo as usize..hi as usize) else {
+                continue;
+            };
+            run.sort_unstable_by(|a, b| a.key2.total_cmp(&b.key2));
+        }
+        self.key.clear();
+        self.half.clear();
+        self.key2.clear();
+        self.sphere.clear();
+        for e in all.iter() {
+            let _ = self.key.push(e.key);
+            let _ = self.half.push(e.half);
+            let _ = self.key2.push(e.key2);
+            let _ = self.sphere.push(e.sphere);
+        }
     }
 
     /// The index of the first key ≥ `x` (`key.partition_point(|&k| k < x)`), searched in
@@ -211,18 +261,18 @@ impl<const S: usize> Sweep<S> {
         }
     }
 
-    /// Builds `start` for the sorted keys: about four entries a bucket, evenly spaced in key.
-    pub(super) fn index(&mut self) {
+    /// Builds `start` for the sorted keys: `buckets` (at least one), evenly spaced in key.
+    pub(super) fn index(&mut self, buckets: usize) {
         self.start.clear();
-        let n = self.key.len();
-        let buckets = (n / 4).max(1);
+        let buckets = buckets.max(1);
         if let (Some(&lo), Some(&hi)) = (self.key.first(), self.key.last()) {
             let per_key = buckets as f32 / (hi - lo);
             self.k_lo = lo;
             self.per_key = if per_key.is_finite() { per_key } else { 0.0 };
         }
-        // At most S / 4 + 1 ≤ S values, or two for no entry: only a sweep of capacity 1
-        // (never built, `SWEEPS`) could lack room, and `first` then searches all keys.
+        // At most S / 4 + 1 ≤ S values (or √S / 2 + 1), or two for no entry: only a sweep of
+        // capacity 1 (never built, `SWEEPS`) could lack room, and `first` then searches all
+        // keys.
         for _ in 0..=buckets {
             let _ = self.start.push(0);
         }
@@ -250,6 +300,9 @@ impl<const S: usize> Sweep<S> {
         key2: f32,
         consider: &mut impl FnMut(SphereId),
     ) {
+        if self.slabs {
+            return self.scan_slabs(key, band, slack, key2, consider);
+        }
         let (hi, n) = (key + band, self.key.len());
         // Within a few entries of the first key ≥ key − band: the keys before that are more
         // than `band` from `key` but for rounding, and the filter below decides them.
@@ -276,6 +329,53 @@ impl<const S: usize> Sweep<S> {
                 consider(s);
             }
             i += 1;
+        }
+    }
+
+    /// [`Sweep::scan`] over slabs: the slabs of the keys within `band` of `key`, and in each
+    /// the run of entries whose `key2` is within `band` of `key2` (a passing entry's `key2` is
+    /// within its half-width and `slack`, at most `band`). Both windows are widened by 2⁻¹⁰
+    /// and a few ulp of the key, far beyond the rounding of the filter's differences, which
+    /// then decides each entry as `scan` does: the same spheres, in another order.
+    #[inline(never)]
+    fn scan_slabs(
+        &self,
+        key: f32,
+        band: f32,
+        slack: f32,
+        key2: f32,
+        consider: &mut impl FnMut(SphereId),
+    ) {
+        let widen = |k: f32| band * (1.0 + 1.0 / 1024.0) + libm::fabsf(k) * (4.0 * f32::EPSILON);
+        let (w, w2) = (widen(key), widen(key2));
+        let (lo2, hi2) = (key2 - w2, key2 + w2);
+        for b in self.bucket(key - w)..=self.bucket(key + w) {
+            let (Some(&lo), Some(&hi)) = (self.start.get(b), self.start.get(b + 1)) else {
+                return;
+            };
+            let (lo, hi) = (lo as usize, hi as usize);
+            let Some(k2s) = self.key2.get(lo..hi) else {
+                return;
+            };
+            let mut i = lo + k2s.partition_point(|&k2| k2 < lo2);
+            while i < hi {
+                let (Some(&k), Some(&h), Some(&k2), Some(&s)) = (
+                    self.key.get(i),
+                    self.half.get(i),
+                    self.key2.get(i),
+                    self.sphere.get(i),
+                ) else {
+                    return;
+                };
+                if k2 > hi2 {
+                    break;
+                }
+                let near = h + slack;
+                if (libm::fabsf(k - key) <= near) & (libm::fabsf(k2 - key2) <= near) {
+                    consider(s);
+                }
+                i += 1;
+            }
         }
     }
 

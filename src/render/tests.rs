@@ -53,7 +53,6 @@ mod lane_tests {
 #[cfg(all(test, lanes))]
 mod pile_tests {
     use super::super::lanes::nearest_root;
-    use super::super::*;
     use crate::math::TestRng;
     use crate::Sphere;
 
@@ -130,7 +129,7 @@ mod sweep_tests {
             for &k in &keys {
                 let _ = w.key.push(k);
             }
-            w.index();
+            w.index((n / 4).max(1));
             assert_eq!(w.start.len(), (n / 4).max(1) + 1);
             // Each key and its neighbours a step of the bits either side; below +0 that is the
             // negative subnormal, where `bits - 1` would wrap (to a NaN, probed on its own).
@@ -162,6 +161,73 @@ mod sweep_tests {
             in_bucket < 8 * queries,
             "{in_bucket} keys in {queries} queries' buckets"
         );
+    }
+}
+
+#[cfg(all(test, lanes))]
+mod slab_tests {
+    use super::super::*;
+    use std::boxed::Box;
+
+    /// A host's sweep of [`SLABS_FROM`] entries or more scans slabs sorted by the second key: the
+    /// spheres it names are those of the filter over every entry, for keys spread and clustered,
+    /// half-widths from zero to wide, and queries anywhere, on the filter's edge in either key, and
+    /// outside every key.
+    #[test]
+    fn slabs_name_the_filtered_spheres() {
+        use crate::math::TestRng;
+        let mut g = TestRng(0x51AB);
+        let mut named = 0usize;
+        for case in 0..6 {
+            let n = SLABS_FROM + [0, 1, 3000][case % 3];
+            let scale = [1.0, 1e-3][case / 3];
+            let mut all: heapless::Vec<Entry, 8192> = heapless::Vec::new();
+            for s in 0..n {
+                let (k, k2) = if s % 5 == 0 {
+                    // A cluster in both keys.
+                    (0.3 + g.unit() * 1e-4, -0.2 + g.unit() * 1e-4)
+                } else {
+                    (g.unit() * 2.0 - 1.0, g.unit() * 2.0 - 1.0)
+                };
+                let half = [0.0, 1e-4, 1e-3, 0.01][s % 4] * g.unit();
+                let _ = all.push(Entry::new(k * scale, half * scale, s, k2 * scale));
+            }
+            let entries = all.clone();
+            let mut w: Box<Sweep<8192>> = Box::new(Sweep::empty());
+            w.hw_max = entries.iter().map(|e| e.half).fold(0.0, f32::max);
+            w.arrange(&mut all);
+            assert!(w.slabs, "case {case}");
+            for q in 0..3000 {
+                let slack = [0.0, 1e-5, 1e-3][q % 3] * scale;
+                let e = entries[(g.next() % n as u64) as usize];
+                let near = e.half + slack;
+                let (key, key2) = match q % 4 {
+                    // On the filter's edge of an entry, in one key or both.
+                    0 => (e.key + near, e.key2),
+                    1 => (e.key, e.key2 - near),
+                    2 => (e.key - near, e.key2 + near),
+                    _ => (
+                        (g.unit() * 2.4 - 1.2) * scale,
+                        (g.unit() * 2.4 - 1.2) * scale,
+                    ),
+                };
+                let mut got: heapless::Vec<usize, 8192> = heapless::Vec::new();
+                w.scan(key, w.hw_max + slack, slack, key2, &mut |s: SphereId| {
+                    let _ = got.push(s.index());
+                });
+                got.sort_unstable();
+                let want: heapless::Vec<usize, 8192> = (0..n)
+                    .filter(|&s| {
+                        let e = entries[s];
+                        let near = e.half + slack;
+                        (libm::fabsf(e.key - key) <= near) & (libm::fabsf(e.key2 - key2) <= near)
+                    })
+                    .collect();
+                assert_eq!(got, want, "case {case}, query {q}: ({key}, {key2})");
+                named += got.len();
+            }
+        }
+        assert!(named > 10_000, "{named}");
     }
 }
 
