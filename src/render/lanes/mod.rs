@@ -349,8 +349,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// `Cull::rows`): their spheres are those whose box crosses any of them.
     pub(super) fn start_rows(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
         cull.spheres.row.clear();
+        // The rows the box and the tile share, none for an empty box (`j0 > j1`).
+        let last = j + n.max(1) - 1;
         for (s, b) in self.tables.boxes.iter().enumerate() {
-            if (j..j + n).any(|r| b.has_row(r)) {
+            if (b.j0 as u32).max(j) <= (b.j1 as u32).min(last) {
                 let _ = cull.spheres.row.push(SphereId::new(s));
             }
         }
