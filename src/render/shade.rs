@@ -106,7 +106,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// the other walk's call, and a second beside it cost the mirror and glass scenes 3–6 %
     /// of their frame time (a larger loop, and the shadow test no longer inlined).
     #[inline(never)]
-    fn follow_culled(&self, ray: &Ray, h: &Hit, colour: Color) -> Color {
+    pub(super) fn follow_culled(&self, ray: &Ray, h: &Hit, colour: Color) -> Color {
         let (local, find) = (self.bounce::<true>(), Culled(self.tables.bvh));
         crate::shading::follow_secondary(self.scene, ray, h, colour, local, find)
     }
@@ -163,7 +163,27 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if Self::SWEEPS && self.culls {
             return self.follow_culled(ray, &h, colour);
         }
+        // Hosts: the walk the lanes' mirrors share (`follow4`). Cortex-M size builds keep the
+        // one copy of the shading that the walk and the primary hit share here.
+        #[cfg(lanes)]
+        return self.follow_every(ray, &h, colour);
+        #[cfg(not(lanes))]
         crate::shading::follow_secondary(scene, ray, &h, colour, local, EverySphere)
+    }
+
+    /// The walk of secondary rays testing every sphere, from the primary hit `h` of local
+    /// colour `colour`, for `shade_from` and the lanes' mirrors (`follow4`). Out of line: one
+    /// copy of the walk for both, each inlining its own had the glass scenes take 13–20 %
+    /// longer (LLVM then kept the walk's steps out of line).
+    #[cfg(lanes)]
+    #[inline(never)]
+    pub(super) fn follow_every(&self, ray: &Ray, h: &Hit, colour: Color) -> Color {
+        let local = |hit: &Hit, ray: &Ray, _primary: bool| {
+            shade_lit(self.scene, hit, ray.dir, |i, light, v| {
+                self.blocked(hit, None, i, light, v)
+            })
+        };
+        crate::shading::follow_secondary(self.scene, ray, h, colour, local, EverySphere)
     }
 
     /// [`Frame::shade_from`] with every secondary ray, and the shadow rays of every hit,

@@ -9,7 +9,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// into `cull.hits.path.px`, marking them in `cull.hits.path.done`: the pixels `next_pixel` would compute one
     /// by one, bit for bit (the hit records built lane by lane as `make_hit` builds them, the
     /// shadow tests the scalar ones, asked for the same lanes and lights). Misses are marked
-    /// done too (`px` starts as the background); every other pixel is left to the scalar path.
+    /// done too (`px` starts as the background); mirrors and glass then take a pass of their
+    /// own ([`Frame::shade_span4_secondary`]), and every other pixel is left to the scalar path.
     #[inline(never)]
     pub(super) fn shade_span4(&self, cull: &mut Cull<S, L>) {
         let len = cull.span_len();
@@ -35,7 +36,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             done |= none << k0;
             let hits = !none & 0b1111;
             if hits == 0b1111 && ss.iter().all(|&x| x == ss[0]) {
-                let colour = self.shade4::<true>(cull, q, ss[0].index(), hits, ts, [x, y, z]);
+                let colour =
+                    self.shade4::<true, false>(cull, q, ss[0].index(), hits, ts, [x, y, z]);
                 keep4(self, &mut px, &mut done, k0, hits, colour);
             } else if hits != 0 {
                 self.shade4_mixed(cull, (k0, q), ss, hits, ts, [x, y, z], &mut px, &mut done);
@@ -43,6 +45,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         cull.hits.path.px = px;
         cull.hits.path.done = done;
+        if self.scene.has_secondary() {
+            self.shade_span4_secondary(cull);
+        }
     }
 
     /// [`Frame::shade_span4`]'s groups of four whose hits are not all on one sphere (an edge):
@@ -66,7 +71,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         while let Some(&s) = ss.get(todo.trailing_zeros() as usize) {
             let active = (0..4).fold(0u32, |b, l| b | ((ss.get(l) == Some(&s)) as u32) << l) & todo;
             todo &= !active;
-            let colour = self.shade4::<false>(cull, q, s.index(), active, ts, xyz);
+            let colour = self.shade4::<false, false>(cull, q, s.index(), active, ts, xyz);
             keep4(self, px, done, k0, active, colour);
         }
     }
@@ -74,11 +79,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The colours of the lanes `active` of the span's four stored hits from slot `q`, all on
     /// sphere `si` (`ts` their t, `dir` their view directions by coordinate), shaded in lanes
     /// as `shade_span4` describes; the other lanes' values are meaningless. `None` where the
-    /// scalar path must shade them (a mirror or glass, which the lanes leave to it). `ALL`: all four lanes
+    /// scalar path must shade them (a mirror or glass without `SECONDARY`). `ALL`: all four lanes
     /// (the common group); a parameter so that the common group and `shade4_mixed` each get a
     /// copy of their own, whose shadow-test closure is inlined (shared, it goes out of line).
+    /// `SECONDARY`: shade a mirror's or glass's lanes too, their secondary rays walked one by
+    /// one (`follow4`); else leave them (`None`). A parameter so that the copies in the pixel
+    /// loop stay without the walk: [`Frame::shade_span4_secondary`] has its own.
     #[inline(always)]
-    pub(super) fn shade4<const ALL: bool>(
+    pub(super) fn shade4<const ALL: bool, const SECONDARY: bool>(
         &self,
         cull: &Cull<S, L>,
         q: usize,
@@ -94,7 +102,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let scene = self.scene;
         let active = if ALL { 0b1111 } else { active };
         let (k, sphere) = (self.tables.eye.get(si)?, scene.spheres().get(si)?);
-        if scene.sends_secondary(si) && scene.max_depth() > 0 {
+        let secondary = scene.sends_secondary(si) && scene.max_depth() > 0;
+        if secondary && !SECONDARY {
             return None;
         }
         let dir = V {
@@ -145,7 +154,84 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
             in_shadow4(scene, &h, light, to, ask, consts, cands)
         };
-        shade_model(scene, si, [normal, anchor, rel, dir], active, blocked)
+        let colour = shade_model(scene, si, [normal, anchor, rel, dir], active, blocked)?;
+        if SECONDARY && secondary {
+            return Some(self.follow4(&h, dir, colour, active));
+        }
+        Some(colour)
+    }
+
+    /// The groups of four that [`Frame::shade_span4`] left to the scalar path because they hit
+    /// a mirror or glass: their local colours in lanes, one pass per such sphere, then each
+    /// lane's walk of secondary rays (`follow4`). A pass of its own after `shade_span4`, whose
+    /// loop stays as it is for the scenes without secondary rays.
+    #[inline(never)]
+    pub(super) fn shade_span4_secondary(&self, cull: &mut Cull<S, L>) {
+        let len = cull.span_len();
+        let (mut done, mut px) = (cull.hits.path.done, cull.hits.path.px);
+        let mut m = 0;
+        while m + 4 <= len {
+            let (k0, q) = (m, cull.slot(m));
+            m += 4;
+            let left = !(done >> k0) & 0b1111;
+            if left == 0 {
+                continue;
+            }
+            let [dx, dy, dz] = &cull.hits.path.hit_dc;
+            let lanes = |a: &[f32; DPAD]| -> Option<[f32; 4]> { a.get(q..q + 4)?.try_into().ok() };
+            let (Some(ss), Some(ts), Some(x), Some(y), Some(z)) = (
+                cull.hits.s.get(q..q + 4),
+                cull.hits.t.get(q..q + 4),
+                lanes(dx),
+                lanes(dy),
+                lanes(dz),
+            ) else {
+                break;
+            };
+            let mut todo = left;
+            while let Some(&s) = ss.get(todo.trailing_zeros() as usize) {
+                let active =
+                    (0..4).fold(0u32, |b, l| b | ((ss.get(l) == Some(&s)) as u32) << l) & todo;
+                todo &= !active;
+                let si = s.index();
+                if !self.scene.sends_secondary(si) {
+                    continue;
+                }
+                let colour = self.shade4::<false, true>(cull, q, si, active, ts, [x, y, z]);
+                keep4(self, &mut px, &mut done, k0, active, colour);
+            }
+        }
+        cull.hits.path.px = px;
+        cull.hits.path.done = done;
+    }
+
+    /// The secondary rays of the lanes `active` of four primary hits on a mirror or glass,
+    /// whose local colours the lanes shaded: each walked on its own, as the scalar path walks
+    /// it from the same hit record (`Hits4::hit`) and colour, so the same bits. Out of line:
+    /// the walk stays out of the lanes' loop.
+    #[inline(never)]
+    fn follow4(
+        &self,
+        h: &crate::shading::Hits4,
+        dir: crate::simd::V,
+        colour: crate::simd::V,
+        active: u32,
+    ) -> crate::simd::V {
+        let eye = self.camera.eye();
+        let mut out = [Vec3::ZERO; 4];
+        for l in crate::simd::ones(active & 0b1111) {
+            if let Some(o) = out.get_mut(l) {
+                let (ray, hit, c) = (Ray::new(eye, dir.lane(l)), h.hit(l), colour.lane(l));
+                // The scalar path's walks, out of line: a copy of the walk of its own here
+                // would cost the scalar path's (`Frame::follow_every`).
+                *o = if Self::SWEEPS && self.culls {
+                    self.follow_culled(&ray, &hit, c)
+                } else {
+                    self.follow_every(&ray, &hit, c)
+                };
+            }
+        }
+        crate::simd::V::from_lanes(out)
     }
 }
 
