@@ -11,7 +11,8 @@
 //! shadow candidates are the entries within its band of keys, scanned from the bucket of the
 //! band's low end: from the bucket's start where it holds at most 8 entries, else from a
 //! binary search within the bucket.
-//! [`Frame::render_rows`] then walks each row in spans of [`SPAN`] pixels:
+//! [`Frame::render_rows`] then walks each row in spans of [`SPAN`] pixels (on hosts narrowed to
+//! 16 or 8 where many spheres' boxes meet a span):
 //!
 //! 1. the row's spheres are those whose box crosses it, the span's those whose box overlaps
 //!    the span, in scene order; a primary ray tests only the span's spheres whose box holds
@@ -104,7 +105,8 @@ impl Default for RenderOptions {
     }
 }
 
-/// Pixels per span: the unit for which the renderer gathers candidate spheres.
+/// Pixels per span: the unit for which the renderer gathers candidate spheres (the widest; a
+/// host narrows a span that many spheres' boxes meet).
 pub const SPAN: usize = 32;
 
 /// A scene, a camera and options, with everything that all rays of the frame share computed
