@@ -36,8 +36,8 @@ pub(super) const KEEPS_OFFSETS: bool = cfg!(lanes);
 pub(super) const INLINE_SHADING: bool = !cfg!(lanes) && !cfg!(size_opt);
 /// Whether scalar primary rays take the shorter test for an eye outside the sphere
 /// ([`Prepared::hit_outside`], the same answers as [`Prepared::hit`]): not in size builds
-/// (`cfg(size_opt)`), whose flash budget has no room for the second test. M4F at opt 3: 398.8
-/// instructions a pixel with it, 431.6 without (`examples/firmware/run.sh m4f`).
+/// (`cfg(size_opt)`), whose flash budget has no room for the second test. Without it the M4F
+/// takes about 8 % more instructions a pixel at opt 3 (`examples/firmware/run.sh m4f`).
 #[cfg(not(lanes))]
 pub(super) const OUTSIDE_TEST: bool = !cfg!(size_opt);
 // `Cull::done` has a bit per span pixel.

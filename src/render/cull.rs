@@ -6,7 +6,7 @@ use super::*;
 /// The shadow candidates of one light for one hit group: every sphere ([`Candidates::ALL`]), or
 /// the spheres `pool[start..end]` (`Cull::pool`). A pair with `ALL` as `start > end` rather than
 /// an enum, so that the common question, whether there is no candidate, is one comparison: as
-/// an enum, M4F 402.6 instructions a pixel against 397.9 (`examples/firmware/run.sh m4f`).
+/// an enum, about 1 % more M4F instructions a pixel (`examples/firmware/run.sh m4f`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) struct Candidates {
     start: u16,

@@ -28,9 +28,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// loop (where [`INLINE_SHADING`]): the record stays in registers instead of going through
     /// memory to the out-of-line `make_hit` and shading closure. The same functions
     /// (`make_hit_inline`, `shade_lit_inline`), so the same bits; a second inlined copy of
-    /// their code, which the size builds have no flash for. M4F at opt 3: 398.8 instructions a
-    /// pixel with it, 440.6 without (`examples/firmware/run.sh m4f`); CI renders the host's
-    /// scenes through this path too (`MICRORAY_HOST_AS=m4f`).
+    /// their code, which the size builds have no flash for. Without it the M4F takes about 10 %
+    /// more instructions a pixel at opt 3 (`examples/firmware/run.sh m4f`); CI renders the
+    /// host's scenes through this path too (`MICRORAY_HOST_AS=m4f`).
     #[inline(always)]
     pub(super) fn shade_stored(
         &self,

@@ -54,8 +54,8 @@ pub(crate) fn shade_lit<const S: usize, const L: usize>(
 
 /// [`shade_model`] of one hit written out for the scalar path, for the Cortex-M4F speed build's
 /// primary hits, which shade the hit record where they build it (`Frame::shade_stored`). A copy
-/// because it is faster there: 398.8 M4F instructions a pixel at opt 3 with it, 425.1 with
-/// `shade_model` inlined in its place (`examples/firmware/run.sh m4f`);
+/// because it is faster there: `shade_model` inlined in its place costs the M4F about 7 % more
+/// instructions a pixel at opt 3 (`examples/firmware/run.sh m4f`);
 /// `inline_shading_is_the_model` pins the two together bit for bit.
 #[inline(always)]
 pub(crate) fn shade_lit_inline<const S: usize, const L: usize>(
