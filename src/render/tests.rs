@@ -164,7 +164,8 @@ mod sweep_tests {
     }
 }
 
-#[cfg(all(test, lanes))]
+// Feature `std`: the sweep of 8192 entries is boxed.
+#[cfg(all(test, lanes, feature = "std"))]
 mod slab_tests {
     use super::super::*;
     use std::boxed::Box;
