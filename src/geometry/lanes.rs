@@ -57,6 +57,25 @@ pub(crate) fn leaving_blocks4(
     (h.hit & !h.redo & kept, (maybe & !kept) | (h.redo & kept))
 }
 
+/// The lanes of `open` whose ray from `anchor + rel` along `d` [`Prepared::leaving_hit`] does
+/// not reject at once (for `tmin ≥ 0`): the rest miss the sphere's line clearly or have it
+/// certainly behind them ([`leaving_start`]). Those tests decide most mirror rays against
+/// most spheres; the lanes left take the scalar test, which repeats them and returns the hit.
+#[cfg(lanes)]
+#[inline(always)]
+pub(crate) fn leaving_open4(
+    anchor: crate::simd::V,
+    rel: crate::simd::V,
+    sphere: &Sphere,
+    d: crate::simd::V,
+    open: u32,
+) -> u32 {
+    use crate::simd::{bits, V};
+    let f = anchor.sub(V::splat(sphere.center)).add(rel);
+    let start = leaving_start(f, sphere.radius, d);
+    open & !bits(start.clear | start.behind())
+}
+
 #[cfg(lanes)]
 impl Prepared {
     /// [`Prepared::hit`] of `LANES` directions at once (coordinates `dx`, `dy`, `dz`, each lane

@@ -304,19 +304,21 @@ mod lane_tests {
         assert!(negative_zeros > 0, "no case reached a discriminant of -0");
     }
 
-    /// Every lane that `leaving_blocks4` decides is the scalar `leaving_blocks`, for shadow rays
+    /// Every lane that `leaving_blocks4` decides is the scalar `leaving_blocks`, and every lane
+    /// that `leaving_open4` rejects a miss of the scalar `leaving_hit`, for shadow (or mirror) rays
     /// from just above spheres of radius 10⁻² … 10⁶ (the hit given as an anchor and an offset,
     /// as shading gives it), many of them grazing the sphere to within 10⁻¹² … 10⁻³ of its
     /// radius, where the clear-miss margin must cover the error of an f32 `c` that cancels; and
     /// it decides most lanes, misses and blocks (a function that decides nothing would pass
     /// the first check alone).
     #[test]
-    fn leaving_blocks4_decides_as_the_scalar_test() {
+    fn leaving_lanes_decide_as_the_scalar_tests() {
         use crate::simd::V;
         let mut g = TestRng(0x2545_f491_4f6c_dd1d);
         let (mut claimed, mut misses, mut grazing) = (0u32, 0u32, 0u32);
         let (mut open_claimed, mut open_misses) = (0u32, 0u32);
         let (mut blocks_decided, mut blocks_all) = (0u32, 0u32);
+        let (mut mirror_rejected, mut mirror_misses) = (0u32, 0u32);
         let unit = |g: &mut TestRng| loop {
             let v = [g.unit() - 0.5, g.unit() - 0.5, g.unit() - 0.5].map(f64::from);
             let n = libm::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -374,6 +376,26 @@ mod lane_tests {
                 tmax,
                 0b1111,
             );
+            // The same rays as mirror rays: `leaving_open4` rejects only lanes that miss.
+            let open = leaving_open4(
+                V::from_lanes(ls.map(|l| l.0)),
+                V::from_lanes(ls.map(|l| l.1)),
+                &s,
+                V::from_lanes(ls.map(|l| l.2)),
+                0b1111,
+            );
+            for (l, &(anchor, rel, d, close, _)) in ls.iter().enumerate() {
+                let found = Prepared::leaving_hit(anchor, rel, &s, d, f32::MIN_POSITIVE, tmax);
+                let rejected = open & (1 << l) == 0;
+                assert!(
+                    !rejected || found.is_none(),
+                    "case {case} lane {l}: {s:?} anchor {anchor:?} rel {rel:?} d {d:?} rejected"
+                );
+                if close.is_infinite() && found.is_none() {
+                    mirror_misses += 1;
+                    mirror_rejected += rejected as u32;
+                }
+            }
             for (l, &(anchor, rel, d, close, far)) in ls.iter().enumerate() {
                 let blocks = Prepared::leaving_blocks(anchor, rel, &s, d, tmax);
                 let decided = undecided & (1 << l) == 0;
@@ -404,6 +426,11 @@ mod lane_tests {
             open_claimed > open_misses - open_misses / 5 && grazing > 1000,
             "{open_claimed} of {open_misses} open misses claimed ({claimed} of {misses} in \
              all), {grazing} grazing"
+        );
+        // Most misses in any direction are rejected before the scalar test.
+        assert!(
+            mirror_rejected > mirror_misses - mirror_misses / 5,
+            "{mirror_rejected} of {mirror_misses} open misses of mirror rays rejected in lanes"
         );
         // Blocks from origins more than a radius away (another sphere's shadow rays): the
         // lanes decide them, but for those that graze within the margins.

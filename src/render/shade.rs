@@ -178,12 +178,35 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     #[cfg(lanes)]
     #[inline(never)]
     pub(super) fn follow_every(&self, ray: &Ray, h: &Hit, colour: Color) -> Color {
-        let local = |hit: &Hit, ray: &Ray, _primary: bool| {
+        let local = self.lit_every();
+        crate::shading::follow_secondary(self.scene, ray, h, colour, local, EverySphere)
+    }
+
+    /// [`Frame::follow_every`] on from `h`, the hit of a mirror ray `ray` of depth 1 and
+    /// weight `weight` (the lanes' `mirror4` found and shaded it; `colour` includes it): the
+    /// same walk, one copy.
+    #[cfg(lanes)]
+    #[inline(never)]
+    pub(super) fn follow_on(&self, ray: &Ray, h: &Hit, colour: Color, weight: Color) -> Color {
+        let local = self.lit_every();
+        crate::shading::walk_on(
+            self.scene,
+            (ray, h),
+            (colour, weight, 1),
+            local,
+            EverySphere,
+        )
+    }
+
+    /// The shading of a secondary hit whose shadow rays test every sphere.
+    #[cfg(lanes)]
+    #[inline(always)]
+    fn lit_every(&self) -> impl FnMut(&Hit, &Ray, bool) -> Color + '_ {
+        |hit: &Hit, ray: &Ray, _primary: bool| {
             shade_lit(self.scene, hit, ray.dir, |i, light, v| {
                 self.blocked(hit, None, i, light, v)
             })
-        };
-        crate::shading::follow_secondary(self.scene, ray, h, colour, local, EverySphere)
+        }
     }
 
     /// [`Frame::shade_from`] with every secondary ray, and the shadow rays of every hit,

@@ -165,7 +165,7 @@ pub(crate) fn follow_secondary<const S: usize, const L: usize>(
     if !scene.has_secondary() || !scene.sends_secondary(h.sphere) || scene.max_depth() == 0 {
         return colour;
     }
-    walk(scene, primary, h, colour, &mut local, find)
+    walk(scene, primary, h, colour, Start::PRIMARY, &mut local, find)
 }
 
 /// A secondary ray still to follow: `ray`, leaving the hit `from`, at `depth` (a primary ray's
@@ -187,7 +187,35 @@ type Deferred = heapless::Vec<Branch, { MAX_DEPTH as usize }>;
 #[cfg(not(feature = "refraction"))]
 type Deferred = heapless::Vec<Branch, 0>;
 
-/// The secondary rays after `first`, a hit along `ray` whose colour so far is `colour`.
+/// Where a walk starts: at a hit of `depth` on a path that weighs `weight` (a primary hit:
+/// depth 0, weight one). On hosts (`cfg(lanes)`) the lanes start walks at secondary hits too
+/// (`walk_on`); elsewhere every walk starts at a primary hit, and the empty type costs the
+/// callers nothing.
+#[cfg(lanes)]
+#[derive(Clone, Copy)]
+struct Start(Color, u8);
+#[cfg(not(lanes))]
+#[derive(Clone, Copy)]
+struct Start;
+
+impl Start {
+    #[cfg(lanes)]
+    const PRIMARY: Start = Start(Color::ONE, 0);
+    #[cfg(not(lanes))]
+    const PRIMARY: Start = Start;
+
+    /// The weight and depth of the hit.
+    #[inline(always)]
+    fn weight_depth(self) -> (Color, u8) {
+        #[cfg(lanes)]
+        return (self.0, self.1);
+        #[cfg(not(lanes))]
+        (Color::ONE, 0)
+    }
+}
+
+/// The secondary rays after `first`, a hit along `ray` whose colour so far is `colour`, where
+/// `start` says.
 ///
 /// `colour = local₀ + k₀ ⊙ (local₁ + k₁ ⊙ (…))`, a sum over the tree of rays, is summed in
 /// depth-first order, each hit's local colour weighted by the product of the colours on its
@@ -201,11 +229,13 @@ fn walk<const S: usize, const L: usize>(
     ray: &Ray,
     first: &Hit,
     mut colour: Color,
+    start: Start,
     local: &mut impl FnMut(&Hit, &Ray, bool) -> Color,
     find: impl FindFrom<S, L>,
 ) -> Color {
+    let (weight, depth) = start.weight_depth();
     let mut deferred = Deferred::new();
-    let mut next = send(scene, ray, first, Color::ONE, 1, &mut deferred);
+    let mut next = send(scene, ray, first, weight, depth + 1, &mut deferred);
     while let Some(b) = next.or_else(|| deferred.pop()) {
         next = None;
         let Some(h) = find.find(scene, &b.ray, &b.from) else {
@@ -218,6 +248,34 @@ fn walk<const S: usize, const L: usize>(
         }
     }
     colour
+}
+
+/// [`follow_secondary`] on from the hit `h` of a secondary ray `ray` of depth `depth` and
+/// weight `weight`, once `colour` holds that hit's weighted colour: the rays it sends, and
+/// theirs. For a renderer that found and shaded the first secondary rays of several pixels
+/// itself, and put nothing aside (their primary hits send one ray each). `walk` itself, so
+/// that the renderer's walks share one copy.
+#[cfg(lanes)]
+#[inline(always)]
+pub(crate) fn walk_on<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    (ray, h): (&Ray, &Hit),
+    (colour, weight, depth): (Color, Color, u8),
+    mut local: impl FnMut(&Hit, &Ray, bool) -> Color,
+    find: impl FindFrom<S, L>,
+) -> Color {
+    if depth >= scene.max_depth() {
+        return colour;
+    }
+    walk(
+        scene,
+        ray,
+        h,
+        colour,
+        Start(weight, depth),
+        &mut local,
+        find,
+    )
 }
 
 /// The rays that the hit `h` along `ray` sends at `depth`, its path's weight `weight`: the

@@ -6,6 +6,7 @@
 
 use super::*;
 
+mod mirror;
 mod shade;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
