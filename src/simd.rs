@@ -164,6 +164,14 @@ impl Ieee3 for lanes::V {
     fn normalized_or_zero(self) -> Option<lanes::V> {
         None
     }
+    /// `Vec3::max_abs`'s comparisons, lane by lane.
+    #[inline(always)]
+    fn max_abs(self) -> lanes::F {
+        use wide::CmpGt;
+        let (x, y, z) = (self.x.abs(), self.y.abs(), self.z.abs());
+        let m = x.cmp_gt(y).blend(x, y);
+        m.cmp_gt(z).blend(m, z)
+    }
 }
 
 #[cfg(lanes)]

@@ -185,6 +185,8 @@ pub(crate) trait Ieee3: Copy {
     /// [`Vec3::normalized`] of `self` or zero, where the lanes can compute it (one f32 can):
     /// the guarded form of a vector whose square leaves the normal range.
     fn normalized_or_zero(self) -> Option<Self>;
+    /// [`Vec3::max_abs`]: the largest magnitude of a coordinate.
+    fn max_abs(self) -> Self::S;
 }
 
 impl Ieee3 for Vec3 {
@@ -236,6 +238,10 @@ impl Ieee3 for Vec3 {
     #[inline(always)]
     fn normalized_or_zero(self) -> Option<Vec3> {
         Some(self.normalized().unwrap_or(Vec3::ZERO))
+    }
+    #[inline(always)]
+    fn max_abs(self) -> f32 {
+        Vec3::max_abs(self)
     }
 }
 

@@ -3,7 +3,8 @@
 //! bound them: a hierarchy of bounding balls over the scene's spheres, built once a frame in
 //! the caller's storage, names the spheres such a ray can meet. Each of those is asked with the
 //! brute-force test, and ties are broken as the brute-force loop breaks them, so the hits are
-//! its hits, bit for bit.
+//! its hits, bit for bit. A node has up to four children, whose balls a walk tests at once,
+//! in vector lanes on hosts: half the levels of a binary tree, and a quarter of the tests.
 //!
 //! Built where the capacity is above 8 (`Frame::SWEEPS`: a microcontroller's scene links none of
 //! it) and the scene has more than [`MIN_SPHERES`] spheres, for scenes with secondary rays.
@@ -11,14 +12,15 @@
 //! than that; at 24, 5 % less; at 1024, 6.3 times less (`bench/ab.sh`).
 
 use super::*;
-use crate::math::sqrt;
+use crate::math::{sqrt, Ieee, Ieee3, IeeeCmp};
 use crate::Sphere;
 
 /// Up to this many spheres a ray tests them all: the walk costs more than it saves.
 pub(super) const MIN_SPHERES: usize = 16;
 /// Spheres a leaf holds at most.
 const LEAF: usize = 4;
-/// The traversal's stack: median splits make the tree at most ⌈log₂ S⌉ ≤ 16 deep.
+/// The traversal's stack: median splits make the tree at most ⌈log₂ S⌉ / 2 + 1 ≤ 9 deep, and
+/// each level leaves at most three balls on it.
 const DEPTH: usize = 40;
 /// The relative pad of every bound: 2⁻¹⁶, far above the few ε by which the tests of the
 /// spheres themselves and these bounds round.
@@ -26,20 +28,23 @@ const PAD: f32 = 1.0 / 65_536.0;
 /// Below this a square may have lost bits to underflow: such a bound culls nothing.
 const TINY: f32 = 1e-30;
 
-/// A ball bounding some spheres: a leaf's, `order[first..first + count]`, or (`count == 0`) its
-/// children's, nodes `first` and `first + 1`.
+/// A node of the tree: a leaf, the spheres `order[first..first + count]`, or (`count == 0`) an
+/// inner node whose `children` (two to four) are the nodes `first..first + children`. Its
+/// bounding ball is in [`Bvh::balls`].
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Node {
-    c: Vec3,
-    r: f32,
     first: u16,
     count: u16,
+    children: u8,
 }
 
 /// The hierarchy over a scene's spheres (see the module's documentation).
 #[derive(Debug)]
 pub(super) struct Bvh<const S: usize> {
     nodes: heapless::Vec<Node, S>,
+    /// The nodes' bounding balls by coordinate, `[x, y, z, r]`: a node's children are
+    /// consecutive, so a walk tests up to four of them in one set of vector lanes.
+    balls: [heapless::Vec<f32, S>; 4],
     /// The spheres of the leaves, leaf by leaf.
     order: List<S>,
     /// Spheres above 8 times the median radius (a ground, a wall), kept out of the tree, whose
@@ -77,37 +82,47 @@ impl Probe {
         }
     }
 
-    /// Whether the ray can meet a sphere inside `n`'s ball, as the sphere's own test decides:
+    /// Whether the ray can meet a sphere inside the ball `(c, r)`, as the sphere's own test decides:
     /// `None` where it certainly cannot (it misses the ball, or the ball is behind), else the
-    /// ball's [`Probe::beyond`] key. Every comparison is written so that a NaN or an overflow
-    /// culls nothing.
+    /// ball's [`Probe::beyond`] key.
     #[inline(always)]
-    fn meets(&self, n: &Node) -> Option<f32> {
-        let e = self.anchor - n.c;
-        let f = e + self.rel;
+    fn meets(&self, c: Vec3, r: f32) -> Option<f32> {
+        let (meets, key) = self.meets_balls(c, r);
+        meets.then_some(key)
+    }
+
+    /// [`Probe::meets`] of the balls centred at `c` of radii `r`: one ball, or four in lanes.
+    /// Every comparison is written so that a NaN or an overflow culls nothing.
+    #[inline(always)]
+    fn meets_balls<P: Ieee3>(&self, c: P, r: P::S) -> (<P::S as IeeeCmp>::Mask, P::S) {
+        let v = <P::S as Ieee>::splat;
+        let e = P::splat(self.anchor).sub(c);
+        let f = e.add(P::splat(self.rel));
         // The ball padded by PAD of every length the tests round with: the distances from the
         // origin (`e`, `rel`, as the spheres' tests form `(anchor − m) + rel`), the ball's
         // radius and the ray's reach. A sphere's test reports a hit only where the exact ray
         // passes within a few ε of those of it; 1.75 ≥ √3 turns max-norms into lengths.
-        let rho = n.r + PAD * (1.75 * (e.max_abs() + self.rel_max) + n.r + self.reach);
-        let (ff, b, rr) = (f.dot(f), f.dot(self.d), rho * rho);
-        if !(ff > TINY && rr > TINY && self.a > TINY) {
-            return Some(f32::NEG_INFINITY);
-        }
+        let pad = v(1.75) * (e.max_abs() + v(self.rel_max)) + r + v(self.reach);
+        let rho = r + v(PAD) * pad;
+        let (ff, b, rr) = (f.dot(f), f.dot(P::splat(self.d)), rho * rho);
+        let a = v(self.a);
+        // Squares that may have lost bits to underflow, or a NaN: the ball culls nothing.
+        let sure = ff.gt(v(TINY)) & rr.gt(v(TINY)) & a.gt(v(TINY));
         // The line misses the ball: |f|² − b²/a > ρ². Written times `a`; the difference
         // cancels when the line passes near the centre from afar, by a few ε |f|² a, which
         // the `PAD ff` term covers.
-        if self.a * ff - b * b > self.a * (rr + PAD * ff) {
-            return None;
-        }
+        let misses = (a * ff - b * b).gt(a * (rr + v(PAD) * ff));
         // Outside the ball and heading away (the centre behind): |f + t d|² grows with t.
-        if b >= 0.0 && ff > rr * (1.0 + PAD) {
-            return None;
-        }
+        let behind = b.ge(v(0.0)) & ff.gt(rr * v(1.0 + PAD));
         // Every point of the ball is at t ≥ (−b − ρ√a)/a; the key is that bound times `a`,
         // lowered by the rounding of its difference.
-        let reach = rho * self.root_a;
-        Some((-b - reach) - PAD * (libm::fabsf(b) + reach))
+        let reach = rho * v(self.root_a);
+        let key = (b.flip() - reach) - v(PAD) * (b.abs() + reach);
+        let meets = !sure | !(misses | behind);
+        (
+            meets,
+            <P::S as IeeeCmp>::select(sure, key, v(f32::NEG_INFINITY)),
+        )
     }
 
     /// Whether a ball of key `key` lies wholly beyond `t = tmax`, past the rounding of the
@@ -121,6 +136,7 @@ impl Probe {
 impl<const S: usize> Bvh<S> {
     pub(super) const EMPTY: Self = Bvh {
         nodes: heapless::Vec::new(),
+        balls: [const { heapless::Vec::new() }; 4],
         order: heapless::Vec::new(),
         wide: heapless::Vec::new(),
         built: false,
@@ -129,6 +145,9 @@ impl<const S: usize> Bvh<S> {
     /// Builds the hierarchy over `spheres` (at most `S`) in place, or none for a few spheres.
     pub(super) fn fill(&mut self, spheres: &[Sphere]) {
         self.nodes.clear();
+        for b in &mut self.balls {
+            b.clear();
+        }
         self.order.clear();
         self.wide.clear();
         self.built = false;
@@ -155,17 +174,14 @@ impl<const S: usize> Bvh<S> {
             };
             let _ = list.push(SphereId::new(s));
         }
-        // Nodes by median splits along the widest axis of their centres, depth first. A node
-        // of n > LEAF spheres has two children of ⌊n/2⌋ and ⌈n/2⌉ ≥ 2, so leaves hold at least
-        // two spheres and the tree has at most n − 1 nodes: `S` is room enough.
+        // Nodes by median splits along the widest axis of their centres, depth first: a node
+        // of n > LEAF spheres is halved, and each half of more than LEAF halved again, into two
+        // to four children of at least two spheres each (⌊n/2⌋ and ⌈n/2⌉ ≥ 2). Leaves hold at
+        // least two spheres and every inner node has two children or more, so the tree has at
+        // most n − 1 nodes: `S` is room enough.
         let mut todo: heapless::Vec<(usize, usize, usize), DEPTH> = heapless::Vec::new();
         if !self.order.is_empty() {
-            let _ = self.nodes.push(Node {
-                c: Vec3::ZERO,
-                r: 0.0,
-                first: 0,
-                count: 0,
-            });
+            self.add_node();
             let _ = todo.push((0, 0, self.order.len()));
         }
         while let Some((k, lo, hi)) = todo.pop() {
@@ -173,35 +189,97 @@ impl<const S: usize> Bvh<S> {
                 continue;
             };
             let (c, r, axis) = bound(spheres, ids);
+            for (b, v) in self.balls.iter_mut().zip([c.x, c.y, c.z, r]) {
+                if let Some(slot) = b.get_mut(k) {
+                    *slot = v;
+                }
+            }
             let mut node = Node {
-                c,
-                r,
                 first: lo as u16,
                 count: (hi - lo) as u16,
+                children: 0,
             };
             let child = self.nodes.len();
-            if hi - lo > LEAF && child + 2 <= S && todo.len() + 2 <= DEPTH {
-                let mid = (hi - lo) / 2;
-                let key = |s: &SphereId| {
-                    let m = spheres.get(s.index()).map_or(Vec3::ZERO, |x| x.center);
-                    [m.x, m.y, m.z].get(axis).copied().unwrap_or(0.0)
-                };
-                if mid < ids.len() {
-                    ids.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
+            if hi - lo > LEAF && child + 4 <= S && todo.len() + 4 <= DEPTH {
+                let mid = lo + split(spheres, ids, axis);
+                let mut groups: heapless::Vec<(usize, usize), 4> = heapless::Vec::new();
+                for (a, b) in [(lo, mid), (mid, hi)] {
+                    match self.order.get_mut(a..b) {
+                        Some(half) if b - a > LEAF => {
+                            let (_, _, axis) = bound(spheres, half);
+                            let m = a + split(spheres, half, axis);
+                            let _ = groups.push((a, m));
+                            let _ = groups.push((m, b));
+                        }
+                        _ => {
+                            let _ = groups.push((a, b));
+                        }
+                    }
                 }
                 node.first = child as u16;
                 node.count = 0;
-                for _ in 0..2 {
-                    let _ = self.nodes.push(node);
+                node.children = groups.len() as u8;
+                for (g, &(a, b)) in groups.iter().enumerate() {
+                    self.add_node();
+                    let _ = todo.push((child + g, a, b));
                 }
-                let _ = todo.push((child, lo, lo + mid));
-                let _ = todo.push((child + 1, lo + mid, hi));
             }
             if let Some(slot) = self.nodes.get_mut(k) {
                 *slot = node;
             }
         }
         self.built = true;
+    }
+
+    /// Appends a node to fill in, with its ball.
+    fn add_node(&mut self) {
+        let _ = self.nodes.push(Node {
+            first: 0,
+            count: 0,
+            children: 0,
+        });
+        for b in &mut self.balls {
+            let _ = b.push(0.0);
+        }
+    }
+
+    /// Whether `probe` can meet the balls of nodes `first..first + n` (`n ≤ 4`), as bits
+    /// `0..n`, and their keys ([`Probe::meets`]): four lanes at once where there are lanes,
+    /// else one ball after another.
+    #[inline(always)]
+    fn meets4(&self, probe: &Probe, first: usize, n: usize) -> (u32, [f32; 4]) {
+        let all = (1u32 << n) - 1;
+        // The four balls from `first`; past the last node, lanes repeat it (masked off).
+        let lanes = |b: &heapless::Vec<f32, S>| -> [f32; 4] {
+            match b.get(first..first + 4) {
+                Some(&[a, b, c, d]) => [a, b, c, d],
+                _ => {
+                    core::array::from_fn(|l| b.get(first + l).or(b.last()).copied().unwrap_or(0.0))
+                }
+            }
+        };
+        let [x, y, z, r] = [0, 1, 2, 3].map(|i| self.balls.get(i).map_or([0.0; 4], lanes));
+        #[cfg(lanes)]
+        {
+            use crate::simd::{bits, F, V};
+            let c = V {
+                x: F::from(x),
+                y: F::from(y),
+                z: F::from(z),
+            };
+            let (meets, key) = probe.meets_balls(c, F::from(r));
+            (bits(meets) & all, key.to_array())
+        }
+        #[cfg(not(lanes))]
+        {
+            let (mut meets, mut keys) = (0, [0.0; 4]);
+            for (l, key) in keys.iter_mut().enumerate().take(n) {
+                let (m, k) = probe.meets_balls(Vec3::new(x[l], y[l], z[l]), r[l]);
+                meets |= (m as u32) << l;
+                *key = k;
+            }
+            (meets & all, keys)
+        }
     }
 
     /// Whether the frame has a hierarchy (else every sphere is tested).
@@ -279,6 +357,20 @@ impl<const S: usize> Bvh<S> {
     }
 }
 
+/// Splits `ids` at its middle, the spheres whose centres lie lower along `axis` first: the
+/// length of the first half.
+fn split(spheres: &[Sphere], ids: &mut [SphereId], axis: usize) -> usize {
+    let mid = ids.len() / 2;
+    let key = |s: &SphereId| {
+        let m = spheres.get(s.index()).map_or(Vec3::ZERO, |x| x.center);
+        [m.x, m.y, m.z].get(axis).copied().unwrap_or(0.0)
+    };
+    if mid < ids.len() {
+        ids.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
+    }
+    mid
+}
+
 /// The centre and radius of a ball holding the spheres `ids` (the centre of their box, the
 /// radius rounded up), and the axis along which their centres spread the most.
 fn bound(spheres: &[Sphere], ids: &[SphereId]) -> (Vec3, f32, usize) {
@@ -339,7 +431,12 @@ impl<'b, const S: usize> Walk<'b, S> {
             top: 0,
             leaf: [].iter(),
         };
-        if let Some(key) = bvh.nodes.first().and_then(|n| probe.meets(n)) {
+        let ball = bvh.balls.each_ref().map(|b| b.first().copied());
+        let root = match ball {
+            [Some(x), Some(y), Some(z), Some(r)] => probe.meets(Vec3::new(x, y, z), r),
+            _ => None,
+        };
+        if let Some(key) = root {
             w.stack[0] = (0, key);
             w.top = 1;
         }
@@ -370,11 +467,7 @@ impl<const S: usize> Iterator for Walk<'_, S> {
                 self.leaf = self.bvh.order.get(first..first + count)?.iter();
                 continue;
             }
-            let (Some(a), Some(b)) = (self.bvh.nodes.get(first), self.bvh.nodes.get(first + 1))
-            else {
-                continue;
-            };
-            if self.top + 2 > DEPTH {
+            if self.top + 4 > DEPTH {
                 // Cannot happen: the build splits a node only while its own stack, which the
                 // walk's mirrors, has room. Were it to, every sphere is named (again): a
                 // sphere asked twice changes no answer.
@@ -382,26 +475,36 @@ impl<const S: usize> Iterator for Walk<'_, S> {
                 self.leaf = self.bvh.order.iter();
                 continue;
             }
-            // The children the ray can meet, the nearer on top: a closest-hit search finds
-            // near hits first and drops what lies behind them.
-            let mut push = |k: usize, key: f32| {
-                if let Some(slot) = self.stack.get_mut(self.top) {
-                    *slot = (k as u16, key);
+            // The balls the ray can meet, the nearest on top: a closest-hit search finds near
+            // hits first and drops what lies behind them.
+            let (meets, keys) = self.bvh.meets4(&self.probe, first, node.children as usize);
+            let base = self.top;
+            for (l, &key) in keys.iter().enumerate() {
+                if meets & (1 << l) == 0 {
+                    continue;
+                }
+                let k = (first + l) as u16;
+                // Insertion by key, farthest at the bottom.
+                let mut i = self.top;
+                while i > base {
+                    match self.stack.get(i - 1) {
+                        Some(&(_, below)) if below < key => i -= 1,
+                        _ => break,
+                    }
+                }
+                let mut j = self.top;
+                while j > i {
+                    if let Some(&e) = self.stack.get(j - 1) {
+                        if let Some(slot) = self.stack.get_mut(j) {
+                            *slot = e;
+                        }
+                    }
+                    j -= 1;
+                }
+                if let Some(slot) = self.stack.get_mut(i) {
+                    *slot = (k, key);
                     self.top += 1;
                 }
-            };
-            match (self.probe.meets(a), self.probe.meets(b)) {
-                (Some(ka), Some(kb)) if ka <= kb => {
-                    push(first + 1, kb);
-                    push(first, ka);
-                }
-                (Some(ka), Some(kb)) => {
-                    push(first, ka);
-                    push(first + 1, kb);
-                }
-                (Some(ka), None) => push(first, ka),
-                (None, Some(kb)) => push(first + 1, kb),
-                (None, None) => {}
             }
         }
     }
