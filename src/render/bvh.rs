@@ -8,15 +8,16 @@
 //!
 //! Built where the capacity is above 8 (`Frame::SWEEPS`: a microcontroller's scene links none of
 //! it) and the scene has more than [`MIN_SPHERES`] spheres, for scenes with secondary rays.
-//! Below that a ray tests every sphere: at 16 spheres, all mirrors, the walk cost 4 % more
-//! than that; at 24, 5 % less; at 1024, 6.3 times less (`bench/ab.sh`).
+//! Below that a ray tests every sphere, and hosts find and shade the first mirror rays of four
+//! pixels together (`lanes/mirror.rs`): at 48 spheres the hierarchy took 1.21 times as long,
+//! all mirrors, and 1.15 times all glass; at 64, 0.97 and 0.92 times (`bench/ab.sh`).
 
 use super::*;
 use crate::math::{sqrt, Ieee, Ieee3, IeeeCmp};
 use crate::Sphere;
 
 /// Up to this many spheres a ray tests them all: the walk costs more than it saves.
-pub(super) const MIN_SPHERES: usize = 16;
+pub(super) const MIN_SPHERES: usize = 48;
 /// Spheres a leaf holds at most.
 const LEAF: usize = 4;
 /// The traversal's stack: median splits make the tree at most ⌈log₂ S⌉ / 2 + 1 ≤ 9 deep, and

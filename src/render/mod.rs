@@ -32,7 +32,7 @@
 //! ([`Frame::render_rows_brute`] is kept as the reference). Secondary rays (mirror and
 //! refracted rays, and the shadow rays of their hits), which leave from anywhere, go through a
 //! hierarchy of bounding balls over the spheres (`bvh.rs`), built once a frame above a
-//! capacity of 8 where the scene has more than 16 spheres and secondary rays; it names the
+//! capacity of 8 where the scene has more than 48 spheres and secondary rays; it names the
 //! spheres a ray can meet, each asked with the brute-force test, equal `t`s decided in the
 //! brute-force order.
 //!

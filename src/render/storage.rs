@@ -6,7 +6,7 @@ use super::*;
 /// The tables a [`Frame`] computes once and its rays share: per sphere the eye's constants
 /// ([`Prepared::exact`]), its screen box and whether its hit offsets are rebuilt exactly; per
 /// light with shadows the light's `c` of every sphere and (above 8 spheres) the sorted sweep of
-/// its shadow candidates; and (above 16 spheres, for scenes with mirrors or glass) the
+/// its shadow candidates; and (above 48 spheres, for scenes with mirrors or glass) the
 /// hierarchy that culls secondary rays.
 ///
 /// Its size grows with the capacity `S × L` of the scene (about 0.8 MB at `Scene<1024, 32>`,

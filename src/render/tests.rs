@@ -239,16 +239,16 @@ mod bvh_tests {
     use crate::shading::find_from;
     use crate::{Material, Sphere};
 
-    type Small = Scene<64, 1>;
+    type Small = Scene<96, 1>;
 
-    /// A scene of 17 to 56 spheres (above `MIN_SPHERES`) for the hierarchy: radii 0.05–1.5 in a box of 10, tiny ones
+    /// A scene of 49 to 88 spheres (above `MIN_SPHERES`) for the hierarchy: radii 0.05–1.5 in a box of 10, tiny ones
     /// (0.001–0.05) up to 40 away, at times a ground of radius 10³–10⁶ and an enclosing sphere,
     /// and some spheres twice (their hits tie, and the brute-force order breaks the tie), all
     /// moved by `shift` and scaled by `scale`.
     fn scene(rng: &mut TestRng, shift: Vec3, scale: f32) -> Small {
         let mut scene: Small = Scene::new();
         let n = MIN_SPHERES as u64 + 1 + rng.next() % 40;
-        let mut spheres: heapless::Vec<Sphere, 64> = heapless::Vec::new();
+        let mut spheres: heapless::Vec<Sphere, 96> = heapless::Vec::new();
         for _ in 0..n {
             let s = match rng.next() % 12 {
                 0 | 1 => Sphere::new(rng.vec(80.0), 0.001 + 0.049 * rng.unit()),
