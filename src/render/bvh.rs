@@ -20,9 +20,10 @@ use crate::Sphere;
 pub(super) const MIN_SPHERES: usize = 48;
 /// Spheres a leaf holds at most.
 const LEAF: usize = 4;
-/// The traversal's stack: median splits make the tree at most ⌈log₂ S⌉ / 2 + 1 ≤ 9 deep, and
-/// each level leaves at most three balls on it.
-const DEPTH: usize = 40;
+/// The traversal's stack (and the build's): median splits make the tree at most
+/// ⌈log₂ S⌉ / 2 + 1 ≤ 9 deep, each level leaves at most three balls on it and the last four:
+/// 3 · 9 + 4 ≤ 32. A smaller stack is a smaller `Walk` to set up for every ray.
+const DEPTH: usize = 32;
 /// The relative pad of every bound: 2⁻¹⁶, far above the few ε by which the tests of the
 /// spheres themselves and these bounds round.
 const PAD: f32 = 1.0 / 65_536.0;
@@ -291,6 +292,7 @@ impl<const S: usize> Bvh<S> {
 
     /// The spheres a shadow ray from `hit` towards `light` (`v` its `to_light`) can meet: the
     /// wide ones, then the tree's leaves whose balls the ray or segment passes.
+    #[inline(always)]
     pub(super) fn shadow_candidates<'b>(
         &'b self,
         hit: &Hit,
@@ -423,6 +425,7 @@ struct Walk<'b, const S: usize> {
 }
 
 impl<'b, const S: usize> Walk<'b, S> {
+    #[inline(always)]
     fn new(bvh: &'b Bvh<S>, probe: Probe, tmax: f32) -> Self {
         let mut w = Walk {
             bvh,
