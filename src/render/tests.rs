@@ -306,7 +306,7 @@ mod bvh_tests {
                 _ => (Vec3::ZERO, 1e4),
             };
             let scene = scene(&mut rng, shift, scale);
-            let mut bvh: Bvh<64> = Bvh::EMPTY;
+            let mut bvh: Bvh<96> = Bvh::EMPTY;
             bvh.fill(scene.spheres());
             assert!(bvh.built(), "case {case}");
             let spheres = scene.spheres();
@@ -356,7 +356,7 @@ mod bvh_tests {
                 ];
                 for light in &lights {
                     let v = light.to_light(h.anchor, h.rel);
-                    let cs: heapless::Vec<f32, 64> = match light.origin() {
+                    let cs: heapless::Vec<f32, 96> = match light.origin() {
                         Some(o) => spheres.iter().map(|s| Prepared::exact(o, s).c).collect(),
                         None => heapless::Vec::new(),
                     };
