@@ -32,11 +32,11 @@ pub fn hit_point(ray: &Ray, t: f32, f: Vec3, sphere: &Sphere) -> (Vec3, Vec3) {
     hit_point_within(ray, t, f, sphere, NEAR2_MIN)
 }
 
-/// `(distance/radius)²` within which [`hit_point`] keeps `f + t·d`: 16 radii, the least any
+/// `(distance/radius)²` within which [`hit_point()`] keeps `f + t·d`: 16 radii, the least any
 /// material gets (`scene::near2`).
 pub(crate) const NEAR2_MIN: f32 = 256.0;
 
-/// [`hit_point`] with f32 up to `√near2` radii away instead of 16: the renderer's choice per
+/// [`hit_point()`] with f32 up to `√near2` radii away instead of 16: the renderer's choice per
 /// material (`scene::near2`), which a diffuse or dull sphere lets go much farther.
 #[inline]
 pub(crate) fn hit_point_within(
@@ -74,7 +74,7 @@ pub(crate) fn offset_is_near(f: Vec3, radius: f32, near2: f32) -> bool {
     f.dot(f) <= near2 * (radius * radius)
 }
 
-/// [`hit_point`] from afar: the offset as `l ± s·d`, with `l = f − (b/a) d` the foot of the
+/// [`hit_point()`] from afar: the offset as `l ± s·d`, with `l = f − (b/a) d` the foot of the
 /// perpendicular from the centre and `s = √((r² − |l|²)/a)`, the sign that of the root that `t`
 /// approximates (`−b/a ∓ s`). `l` is computed as `d × (f × d) / a`: the cross product `f × d`
 /// is where the cancellation is (f nearly along d, |l| ≪ |f|), so each of its components is

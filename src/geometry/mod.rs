@@ -23,7 +23,7 @@
 //! Two more losses come after the root, and are answered here too:
 //!
 //! 4. **The hit's offset from the centre** (the normal times r): `f + t·d` loses the low bits
-//!    of r when `|f| ≫ r`, even with t exact. [`hit_point`] recomputes it from exact products
+//!    of r when `|f| ≫ r`, even with t exact. [`hit_point()`] recomputes it from exact products
 //!    from 16 radii away (from 2048 for dull materials, whose shading the lost bits do not
 //!    reach).
 //! 5. **Rays leaving a hit far from the origin**: the hit point rounded to f32 is off by half an

@@ -235,7 +235,7 @@ impl<const S: usize> Sweep<S> {
         self.first_in(self.bucket(x), x)
     }
 
-    /// [`Sweep::first`] of `x` in its bucket `b`.
+    /// The index of the first key ≥ `x` in its bucket `b`.
     #[inline(always)]
     pub(super) fn first_in(&self, b: usize, x: f32) -> usize {
         let (lo, hi) = (self.start.get(b), self.start.get(b + 1));
@@ -249,7 +249,7 @@ impl<const S: usize> Sweep<S> {
             .map_or(0, |keys| keys.partition_point(|&k| k < x))
     }
 
-    /// An index at or before [`Sweep::first`]`(x)`, and at most 8 entries before it: its
+    /// An index at or before the first key ≥ `x`, and at most 8 entries before it: its
     /// bucket's start where the bucket is that small (a search there costs more, in
     /// mispredicted branches, than scanning its keys in lanes).
     #[inline(always)]

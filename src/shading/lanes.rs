@@ -37,7 +37,7 @@ impl Hits4 {
 }
 
 /// [`in_shadow_among`] for the lanes `ask` of four hits on one sphere (`to` their
-/// [`to_light`] vectors): the bits of those in shadow. Each candidate is weighed for the four
+/// [`LightKind::to_light`] vectors): the bits of those in shadow. Each candidate is weighed for the four
 /// lanes at once as far as lanes decide it (`fused`'s steps lane by lane, and the point light's
 /// constants through [`Prepared::hit4`]); the lanes that remain get the scalar test of
 /// that sphere, so every answer is the scalar one. Lanes that see their sphere from inside

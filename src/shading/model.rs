@@ -31,7 +31,8 @@ pub fn shade_local<const S: usize, const L: usize>(
     shade_lit(scene, hit, dir, |i, _, _| blocked(i))
 }
 
-/// [`shade_local`] with `blocked(i, light, v)` also given the light and its [`to_light`] vector,
+/// [`shade_local`] with `blocked(i, light, v)` also given the light and its
+/// [`LightKind::to_light`] vector,
 /// which the shadow test needs too: [`shade_model`] of one hit.
 // Always inlined on hosts, into the closure that shades a span's leftover pixels and their
 // secondary hits: left to the compiler, it went out of line there once the frame had a second
@@ -216,7 +217,10 @@ mod tests {
     #[test]
     fn inline_shading_is_the_model() {
         let mut g = TestRng(0x2545_f491_4f6c_dd1d);
-        let (mut hits, mut lane_hits) = (0, 0);
+        let mut hits = 0;
+        // Counted where lanes shade (`cfg(lanes)`).
+        #[cfg_attr(not(lanes), allow(unused_mut))]
+        let mut lane_hits = 0;
         for case in 0..4_000 {
             let scene = scene(&mut g, case);
             let scale = [1e-12f32, 1.0, 1e3, 1e12][case % 4];

@@ -462,7 +462,7 @@ impl TileRow<'_> {
     }
 }
 
-/// The host path's part of the per-row state ([`Cull::path`]).
+/// The host path's part of the per-row state ([`SpanHits::path`]).
 #[derive(Debug)]
 pub(super) struct PathState {
     /// The directions by coordinate (x, y, z), padded to whole lanes past the last slot: traced
