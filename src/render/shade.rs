@@ -4,6 +4,10 @@
 use super::*;
 use crate::shading::EverySphere;
 
+/// The most spheres a secondary hit's shadow ray keeps from a light's sweep
+/// (`Frame::swept_blockers`); with more, it walks the hierarchy.
+const SHORT: usize = 16;
+
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Whether `hit_point_within` takes `f + t·d` for primary hits on sphere `s` (its eye
     /// constants within near2 radii): the same choice for every pixel, which `Frame::new`
@@ -111,7 +115,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         crate::shading::follow_secondary(self.scene, ray, h, colour, local, find)
     }
 
-    /// Whether light `i` is blocked at a secondary hit, among the spheres the hierarchy names.
+    /// Whether light `i` is blocked at a secondary hit, among the spheres the light's sweep
+    /// names (`swept_blockers`), or where they are many, the hierarchy.
     #[inline(never)]
     fn blocked_culled(&self, hit: &Hit, i: usize, light: &Light, v: Vec3) -> bool {
         if !self.scene.shadows() {
@@ -119,8 +124,44 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
         let cs = self.light_consts(i, light);
         let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
+        if let Some(list) = self.swept_blockers(hit, i, light) {
+            let cands = list.iter().map(|s| s.index());
+            return in_shadow_among(self.scene, hit, light, v, consts, cands);
+        }
         let cands = self.tables.bvh.shadow_candidates(hit, light, v);
         in_shadow_among(self.scene, hit, light, v, consts, cands)
+    }
+
+    /// The spheres that can block light `i` at the secondary hit `hit`, as light `i`'s sweep
+    /// names them for a ball about the hit point (the span's search, `Frame::gather`, for one
+    /// point), each kept where [`LightKind::may_block`] says it may; `None` where the light has
+    /// no sweep or more than `SHORT` are kept. The ball's radius, 10⁻⁵ of the point's largest
+    /// coordinate, covers far more than the rounding of `anchor + rel`, whose exact sum the
+    /// shadow rays leave from.
+    #[inline(always)]
+    fn swept_blockers(&self, hit: &Hit, i: usize, light: &Light) -> Option<List<SHORT>> {
+        if !Self::SWEEPS {
+            return None;
+        }
+        let q = hit.point();
+        let rho = 1e-5 * q.max_abs() + f32::MIN_POSITIVE;
+        if !(rho.is_finite() && q.is_finite()) {
+            return None;
+        }
+        let (sweep, key, band, slack, key2) = self.tables.sweeps.get(i)?.band(light, q, rho)?;
+        let spheres = self.scene.spheres();
+        let (mut list, mut full) = (List::<SHORT>::new(), false);
+        let mut consider = |s: SphereId| {
+            let keep = spheres
+                .get(s.index())
+                .is_some_and(|b| light.may_block(b.center, b.radius, q, rho));
+            full |= keep && list.push(s).is_err();
+        };
+        for &s in &sweep.wide {
+            consider(s);
+        }
+        sweep.scan(key, band, slack, key2, &mut consider);
+        (!full).then_some(list)
     }
 
     /// Shades a primary hit (and its secondary rays): `lists`, when given, holds per light
