@@ -34,7 +34,8 @@
 //! hierarchy of bounding balls over the spheres (`bvh.rs`), built once a frame above a
 //! capacity of 8 where the scene has more than 48 spheres and secondary rays; it names the
 //! spheres a ray can meet, each asked with the brute-force test, equal `t`s decided in the
-//! brute-force order.
+//! brute-force order. The shadow rays of secondary hits take their candidates from the
+//! lights' sweeps where those name few (`shade.rs`).
 //!
 //! A scene pays only for what it has: without lights or shadows, step 2 is skipped; no
 //! specular or mirror work is done for materials without them.
