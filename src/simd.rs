@@ -64,6 +64,14 @@ impl IeeeCmp for lanes::F {
         lanes::F::splat(f32::MIN_POSITIVE).cmp_le(self) & self.cmp_le(lanes::F::splat(f32::MAX))
     }
     #[inline(always)]
+    fn greater(self, o: lanes::F) -> lanes::F {
+        self.fast_max(o)
+    }
+    #[inline(always)]
+    fn lesser(self, o: lanes::F) -> lanes::F {
+        self.fast_min(o)
+    }
+    #[inline(always)]
     fn select(m: lanes::F, a: lanes::F, b: lanes::F) -> lanes::F {
         m.blend(a, b)
     }
@@ -163,14 +171,6 @@ impl Ieee3 for lanes::V {
     #[inline(always)]
     fn normalized_or_zero(self) -> Option<lanes::V> {
         None
-    }
-    /// `Vec3::max_abs`'s comparisons, lane by lane.
-    #[inline(always)]
-    fn max_abs(self) -> lanes::F {
-        use wide::CmpGt;
-        let (x, y, z) = (self.x.abs(), self.y.abs(), self.z.abs());
-        let m = x.cmp_gt(y).blend(x, y);
-        m.cmp_gt(z).blend(m, z)
     }
 }
 

@@ -62,6 +62,11 @@ pub(crate) trait IeeeCmp: Ieee + Div<Output = Self> {
     fn positive_normal(self) -> Self::Mask;
     /// `if m { a } else { b }`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+    /// The greater of the two. Where either is NaN it may give either operand or a NaN (x86's
+    /// `maxps` gives `o`, NEON's `vmaxq` a NaN): a formula that uses it must hold with any.
+    fn greater(self, o: Self) -> Self;
+    /// The lesser of the two, with [`IeeeCmp::greater`]'s latitude at a NaN.
+    fn lesser(self, o: Self) -> Self;
     /// `if m { a() } else { b }`, `a` evaluated only where needed (one f32: only when `m`).
     fn select_lazy(m: Self::Mask, a: impl FnOnce() -> Self, b: Self) -> Self;
     /// `if m { a() } else { b() }` where only the lanes `care` (bits `0..4`) are read: one f32
@@ -118,6 +123,22 @@ impl IeeeCmp for f32 {
     #[inline(always)]
     fn positive_normal(self) -> bool {
         super::positive_normal(self)
+    }
+    #[inline(always)]
+    fn greater(self, o: f32) -> f32 {
+        if self > o {
+            self
+        } else {
+            o
+        }
+    }
+    #[inline(always)]
+    fn lesser(self, o: f32) -> f32 {
+        if self < o {
+            self
+        } else {
+            o
+        }
     }
     #[inline(always)]
     fn select(m: bool, a: f32, b: f32) -> f32 {
@@ -185,8 +206,6 @@ pub(crate) trait Ieee3: Copy {
     /// [`Vec3::normalized`] of `self` or zero, where the lanes can compute it (one f32 can):
     /// the guarded form of a vector whose square leaves the normal range.
     fn normalized_or_zero(self) -> Option<Self>;
-    /// [`Vec3::max_abs`]: the largest magnitude of a coordinate.
-    fn max_abs(self) -> Self::S;
 }
 
 impl Ieee3 for Vec3 {
@@ -238,10 +257,6 @@ impl Ieee3 for Vec3 {
     #[inline(always)]
     fn normalized_or_zero(self) -> Option<Vec3> {
         Some(self.normalized().unwrap_or(Vec3::ZERO))
-    }
-    #[inline(always)]
-    fn max_abs(self) -> f32 {
-        Vec3::max_abs(self)
     }
 }
 

@@ -31,7 +31,7 @@
 //! hit keeps the last of equal `t`s): the pixels are the brute-force pixels, bit for bit
 //! ([`Frame::render_rows_brute`] is kept as the reference). Secondary rays (mirror and
 //! refracted rays, and the shadow rays of their hits), which leave from anywhere, go through a
-//! hierarchy of bounding balls over the spheres (`bvh.rs`), built once a frame above a
+//! hierarchy of bounding boxes over the spheres (`bvh.rs`), built once a frame above a
 //! capacity of 8 where the scene has more than 48 spheres and secondary rays; it names the
 //! spheres a ray can meet, each asked with the brute-force test, equal `t`s decided in the
 //! brute-force order. The shadow rays of secondary hits take their candidates from the

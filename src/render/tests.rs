@@ -290,7 +290,8 @@ mod bvh_tests {
     }
 
     /// Secondary rays from hits all over random scenes (at the origin, moved by 10⁴, scaled by
-    /// 10⁻⁴ and 10⁴), in random directions and grazing other spheres within 10⁻³ to 10⁻⁷:
+    /// 10⁻⁴ and 10⁴), in random directions, along the axes and grazing other spheres within
+    /// 10⁻³ to 10⁻⁷:
     /// the hierarchy's closest hit is `find_from`'s, bit for bit and tie for tie, and its
     /// shadow candidates give `in_shadow_among` over every sphere's answer, for point lights
     /// (with and without their per-frame constants) and directional ones.
@@ -325,8 +326,18 @@ mod bvh_tests {
                 let p = h.anchor + h.rel;
                 let other = spheres[(rng.next() % spheres.len() as u64) as usize];
                 let k = [1e-3, 1e-5, 1e-7][(rng.next() % 3) as usize];
-                let d = match rng.next() % 3 {
+                let d = match rng.next() % 4 {
                     0 => rng.vec(2.0).normalized(),
+                    // Along an axis, the other components +0 or −0: parallel to two slabs
+                    // of every box, whose `1/d` are ±∞.
+                    1 => {
+                        let mut c = [0.0f32; 3];
+                        for x in &mut c {
+                            *x = if rng.next() & 1 == 0 { 0.0 } else { -0.0 };
+                        }
+                        c[(rng.next() % 3) as usize] = if rng.next() & 1 == 0 { 1.0 } else { -1.0 };
+                        Some(Vec3::from(c))
+                    }
                     _ => grazing(&mut rng, p, &other, k),
                 };
                 let Some(d) = d else { continue };
