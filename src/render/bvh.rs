@@ -76,10 +76,9 @@ struct Probe {
     far_o: [f32; 3],
     /// `1/d` per axis: ±∞ where `d` has a zero there (a ray parallel to the slab).
     inv: [f32; 3],
-    /// Per axis, the box coordinate of its near plane (`Bvh::boxes`): the low side where the
-    /// ray runs up the axis (`1/d ≥ 0`, +0 included), else the high side; and of its far plane.
-    near: [usize; 3],
-    far: [usize; 3],
+    /// Per axis, whether the ray runs down it (`1/d < 0`, −0 included): its near plane is then
+    /// the box's high side, else the low side.
+    down: [bool; 3],
     /// Whether the slabs decide: `d` is long enough to square without underflow, every
     /// component is zero or large enough that `1/d` is finite, and `o` and the pad are finite.
     /// Else every box meets the ray.
@@ -94,8 +93,7 @@ impl Probe {
         let (o, d) = ([o.x, o.y, o.z], [d.x, d.y, d.z]);
         let inv = d.map(|x| 1.0 / x);
         let up = inv.map(|i| i >= 0.0);
-        let near = core::array::from_fn(|k| if up[k] { k } else { k + 3 });
-        let far = core::array::from_fn(|k| if up[k] { k + 3 } else { k });
+        let down = up.map(|u| !u);
         let near_o = core::array::from_fn(|k| if up[k] { o[k] + pad } else { o[k] - pad });
         let far_o = core::array::from_fn(|k| if up[k] { o[k] - pad } else { o[k] + pad });
         // Below 2⁻¹⁰⁰ a component's reciprocal could round to infinity where the ratios it
@@ -109,8 +107,7 @@ impl Probe {
             near_o,
             far_o,
             inv,
-            near,
-            far,
+            down,
             sure,
         }
     }
@@ -282,10 +279,14 @@ impl<const S: usize> Bvh<S> {
                 }
             }
         };
-        let plane = |i: usize| self.boxes.get(i).map_or([0.0; 4], lanes);
-        let ([n0, n1, n2], [f0, f1, f2]) = (probe.near, probe.far);
-        let near = [plane(n0), plane(n1), plane(n2)];
-        let far = [plane(f0), plane(f1), plane(f2)];
+        // Axis `k`'s low side is `boxes[k]`, its high side `boxes[k + 3]`.
+        let plane = |k: usize, high: bool| {
+            let i = k + 3 * high as usize;
+            self.boxes.get(i).map_or([0.0; 4], lanes)
+        };
+        let [d0, d1, d2] = probe.down;
+        let near = [plane(0, d0), plane(1, d1), plane(2, d2)];
+        let far = [plane(0, !d0), plane(1, !d1), plane(2, !d2)];
         #[cfg(lanes)]
         {
             use crate::simd::{bits, F};
