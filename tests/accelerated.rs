@@ -249,27 +249,41 @@ fn accelerated_equals_brute_force_on_the_scaling_scenes() {
     }
 }
 
-/// Thousands of spheres, where hosts narrow crowded spans, skip spheres behind a deep pile's
-/// first hits, and keep their shadow sweeps in slabs (from 4096 spheres a light): a wall, a
-/// grid of 4096 small spheres over the screen, and 400 packed in a ball at its centre, under a
-/// point and a directional light with shadows.
-#[test]
-fn accelerated_equals_brute_force_with_4500_spheres() {
-    let mut scene: Box<Scene<4600, 4>> = Box::new(Scene::new());
-    scene.set_shadows(true);
-    scene.set_ambient(Color::splat(0.1)).unwrap();
-    let m = |c: Color| Material {
-        diffuse: c,
-        specular: Color::splat(0.3),
-        shininess: 16.0,
-        ..Material::default()
-    };
+/// The set-up of the scaling scenes (`bench/scale_scenes.py`): a grey wall of radius 1000
+/// behind the origin in a scene of ambient light `ambient`, with the material `m` makes of a
+/// colour; and the camera at (0, 0, 10) facing it, of vertical field `vfov`, `w`×`h`.
+fn walled<const S: usize, const L: usize>(
+    ambient: f32,
+    m: impl Fn(Color) -> Material,
+    (vfov, w, h): (f32, u32, u32),
+) -> (Box<Scene<S, L>>, Camera) {
+    let mut scene: Box<Scene<S, L>> = Box::new(Scene::new());
+    scene.set_ambient(Color::splat(ambient)).unwrap();
     scene
         .add_sphere(
             Sphere::new(Vec3::new(0.0, 0.0, -1002.0), 1000.0),
             m(Color::splat(0.7)),
         )
         .unwrap();
+    let eye = Vec3::new(0.0, 0.0, 10.0);
+    let camera = Camera::new(eye, Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), vfov, w, h).unwrap();
+    (scene, camera)
+}
+
+/// Thousands of spheres, where hosts narrow crowded spans, skip spheres behind a deep pile's
+/// first hits, and keep their shadow sweeps in slabs (from 4096 spheres a light): a wall, a
+/// grid of 4096 small spheres over the screen, and 400 packed in a ball at its centre, under a
+/// point and a directional light with shadows.
+#[test]
+fn accelerated_equals_brute_force_with_4500_spheres() {
+    let m = |c: Color| Material {
+        diffuse: c,
+        specular: Color::splat(0.3),
+        shininess: 16.0,
+        ..Material::default()
+    };
+    let (mut scene, camera) = walled::<4600, 4>(0.1, m, (40.0, 96, 72));
+    scene.set_shadows(true);
     let mut rng = Rng(0x4500);
     for k in 0..4096 {
         let (x, y) = ((k % 64) as f32, (k / 64) as f32);
@@ -300,16 +314,41 @@ fn accelerated_equals_brute_force_with_4500_spheres() {
             intensity: Color::splat(0.3),
         })
         .unwrap();
-    let camera = Camera::new(
-        Vec3::new(0.0, 0.0, 10.0),
-        Vec3::ZERO,
-        Vec3::new(0.0, 1.0, 0.0),
-        40.0,
-        96,
-        72,
-    )
-    .unwrap();
     same(&scene, &camera, RenderOptions::default());
+}
+
+/// A deep pile whose spheres come in pairs at one place, each of another colour: their roots
+/// tie, and the brute-force loop gives every tie to the later sphere. Hosts trace a pile's
+/// spheres nearest first, not in scene order, and must pick the same ones: with shadows (one
+/// sample a pixel, its hits kept), without, with 2×2 samples (kept) and 3×3 (traced again
+/// one by one).
+#[test]
+fn a_deep_pile_of_tied_spheres_keeps_the_brute_force_hits() {
+    let m = |c: Color| Material {
+        diffuse: c,
+        ..Material::default()
+    };
+    let (mut scene, camera) = walled::<700, 2>(0.2, m, (12.0, 64, 48));
+    let mut rng = Rng(0x7_1E5);
+    for _ in 0..300 {
+        let s = Sphere::new(rng.vec(0.8) + Vec3::new(0.0, 0.0, 1.0), 0.1);
+        scene.add_sphere(s, m(Color::new(1.0, 0.1, 0.1))).unwrap();
+        scene.add_sphere(s, m(Color::new(0.1, 0.1, 1.0))).unwrap();
+    }
+    scene
+        .add_light(Light::Point {
+            position: Vec3::new(3.0, 5.0, 8.0),
+            intensity: Color::splat(0.8),
+        })
+        .unwrap();
+    for (shadows, samples) in [(true, 1), (false, 1), (true, 2), (true, 3)] {
+        scene.set_shadows(shadows);
+        let options = RenderOptions {
+            samples,
+            ..RenderOptions::default()
+        };
+        same(&scene, &camera, options);
+    }
 }
 
 /// `render_rows` gathers a span's rows several at a time (with one sample a pixel and

@@ -21,8 +21,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// The closest hit of the primary ray through column `i`, as `(t, sphere)`, against the
-    /// spheres of `cands` (in scene order) whose box holds that column (the row is the
-    /// caller's). Inlined in [`Frame::gather`]'s pixel loop where spans cannot keep every view
+    /// spheres of `cands` whose box holds that column (the row is the caller's): the closest
+    /// of scene order, where equal roots go to the greater index, in whatever order `cands`
+    /// come (hosts sort a deep pile, `Frame::sort_pile`). Inlined in [`Frame::gather`]'s pixel loop where spans cannot keep every view
     /// direction (soft-float Arm; elsewhere [`Frame::trace_span`] finds the same hits sphere by
     /// sphere); the other callers share [`Frame::primary_hit_among`].
     #[inline]
@@ -43,8 +44,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 continue;
             }
             if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
-                tmax = t;
-                best = Some((t, s));
+                // In scene order a later sphere always takes an equal root (Cortex-M's spans
+                // keep that order: no test there).
+                if !cfg!(lanes) || t < tmax || best.is_none_or(|(_, b)| s > b) {
+                    tmax = t;
+                    best = Some((t, s));
+                }
             }
         }
         best

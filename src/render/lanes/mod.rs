@@ -63,7 +63,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// `PILE` (spans that meet more than [`DEEP`] boxes, a deep pile of spheres): a group of lanes skips a sphere whose
     /// every root lies beyond the lanes' closest hits so far, which the test would reject
     /// (a hit needs its root at or before them). In a pile of spheres most lie behind the
-    /// first few hits, whatever their order.
+    /// first few hits. The pile comes nearest first (`Frame::sort_pile`), so the row stops at
+    /// the first sphere that every lane skips: the ones after it lie further still. Out of
+    /// scene order, a root equal to a lane's closest is kept only from a sphere of a greater
+    /// index: the closest hit of scene order, whose later spheres win ties.
     #[inline(always)]
     pub(super) fn trace_lanes<const PAD: usize, const PILE: bool>(
         &self,
@@ -79,6 +82,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         use crate::simd::F;
         let (mut t, mut sp) = ([f32::INFINITY; PAD], [SphereId::NONE; PAD]);
         let len = ts.len().min(SPAN);
+        // `Frame::sort_pile` ordered the pile nearest first.
+        let sorted = PILE && span.len() <= PILE_SORT;
         let lane = F::from(core::array::from_fn(|l| l as f32));
         // The longest direction's squared length (`PILE`).
         let mut dd = F::splat(0.0);
@@ -131,13 +136,23 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 for m in lo..hi {
                     let d = Vec3::new(dx[m], dy[m], dz[m]);
                     if let Some(hit) = k.hit(d, T_EPS, t[m]) {
-                        (t[m], sp[m]) = (hit, sphere);
+                        if !PILE || wins(hit, sphere, t[m], sp[m]) {
+                            (t[m], sp[m]) = (hit, sphere);
+                        }
                     }
                 }
                 continue;
             }
             let hb = k.hearn_baker();
-            let near = if PILE { nearest_root(k, d_max) } else { 0.0 };
+            // `pile_key` over `d_max`: at or below every root (see `nearest_root`), and in
+            // the pile's order, as the division by one positive number keeps it.
+            let near = if PILE { pile_key(k) / d_max } else { 0.0 };
+            if PILE && sorted {
+                let last = t.get(..len).unwrap_or(&[]);
+                if last.iter().all(|&tl| near > tl) {
+                    break;
+                }
+            }
             let mut m = lo;
             while m < hi {
                 let lanes = |a: &[f32; PAD]| -> [f32; LANES] {
@@ -159,7 +174,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 for l in 0..LANES {
                     if hit & (1 << l) != 0 {
                         if let (Some(tt), Some(ss)) = (t.get_mut(m + l), sp.get_mut(m + l)) {
-                            (*tt, *ss) = (h.t[l], sphere);
+                            if !PILE || wins(h.t[l], sphere, *tt, *ss) {
+                                (*tt, *ss) = (h.t[l], sphere);
+                            }
                         }
                     }
                 }
@@ -169,7 +186,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                             let q = m + l;
                             let d = Vec3::new(dx[q], dy[q], dz[q]);
                             if let Some(hit) = k.hit(d, T_EPS, t[q]) {
-                                (t[q], sp[q]) = (hit, sphere);
+                                if !PILE || wins(hit, sphere, t[q], sp[q]) {
+                                    (t[q], sp[q]) = (hit, sphere);
+                                }
                             }
                         }
                     }
@@ -317,6 +336,30 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if cull.spheres.span.len() > CROWD {
             self.narrow_crowded(cull);
         }
+        if cull.spheres.span.len() > DEEP {
+            self.sort_pile(cull);
+        }
+    }
+
+    /// Orders a deep pile's spheres (a span that meets more than [`DEEP`] boxes) by
+    /// [`pile_key`], nearest first, so that [`Frame::trace_lanes`] meets each pixel's front
+    /// sphere early and stops where every sphere left lies beyond every hit so far. Piles of
+    /// more than [`PILE_SORT`] spheres keep their order (and their rows test each sphere).
+    #[inline(never)]
+    fn sort_pile(&self, cull: &mut Cull<S, L>) {
+        let span = &mut cull.spheres.span;
+        if span.len() > PILE_SORT {
+            return;
+        }
+        let mut keyed: heapless::Vec<(f32, SphereId), PILE_SORT> = heapless::Vec::new();
+        for &s in span.iter() {
+            let key = self.tables.eye.get(s.index()).map_or(0.0, pile_key);
+            let _ = keyed.push((key, s));
+        }
+        keyed.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        for (s, &(_, id)) in span.iter_mut().zip(keyed.iter()) {
+            *s = id;
+        }
     }
 
     /// [`Frame::narrow_span`] of a span that meets more than [`CROWD`] boxes.
@@ -433,6 +476,29 @@ pub(super) fn nearest_root(k: &crate::Prepared, d_max: f32) -> f32 {
         0.0
     }
 }
+
+/// [`nearest_root`] of a direction of length 1, the order of a sorted pile
+/// ([`Frame::sort_pile`]): zero where the sphere's constants overflow, which the trace tests
+/// apart and must not pass by.
+#[inline(always)]
+fn pile_key(k: &crate::Prepared) -> f32 {
+    if crate::math::finite(k.c) {
+        nearest_root(k, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// Whether a root `t` on `sphere`, at most the lane's closest `best` (on `on`), takes its
+/// place: the closest of scene order, where equal roots go to the greater index, whatever order
+/// the spheres come in.
+#[inline(always)]
+fn wins(t: f32, sphere: SphereId, best: f32, on: SphereId) -> bool {
+    t < best || on == SphereId::NONE || sphere.index() > on.index()
+}
+
+/// The most spheres a deep pile is sorted with (`Frame::sort_pile`): 8 KiB of keys on the stack.
+const PILE_SORT: usize = 1024;
 
 /// The most spheres' boxes a host's span should meet: a span that meets more is narrowed
 /// (`Frame::narrow_span`). Over many small spheres a tile of `SPAN` columns hits more spheres
