@@ -11,8 +11,8 @@
 //! Built where the capacity is above 8 (`Frame::SWEEPS`: a microcontroller's scene links none of
 //! it) and the scene has more than [`MIN_SPHERES`] spheres, for scenes with secondary rays.
 //! Below that a ray tests every sphere, and hosts find and shade the first mirror rays of four
-//! pixels together (`lanes/mirror.rs`): at 48 spheres the hierarchy took 1.21 times as long,
-//! all mirrors, and 1.15 times all glass; at 64, 0.97 and 0.92 times (`bench/ab.sh`).
+//! pixels together (`lanes/mirror.rs`): at 48 spheres the hierarchy took 1.05 times as long,
+//! all mirrors, and 1.02 times all glass; at 56, 0.92 and 0.89 times (`bench/ab.sh`).
 
 use super::*;
 use crate::math::IeeeCmp;
