@@ -96,8 +96,9 @@ impl Probe {
         let down = up.map(|u| !u);
         let near_o = core::array::from_fn(|k| if up[k] { o[k] + pad } else { o[k] - pad });
         let far_o = core::array::from_fn(|k| if up[k] { o[k] - pad } else { o[k] + pad });
-        // Below 2⁻¹⁰⁰ a component's reciprocal could round to infinity where the ratios it
-        // forms are finite; such a ray culls nothing.
+        // A component below 10⁻³⁰ (but not zero) has a reciprocal above 10³⁰, which
+        // overflows below 2⁻¹²⁸, and whose products with the planes' distances could overflow
+        // where their ratios are finite: such a ray culls nothing.
         let small = |x: f32| x != 0.0 && libm::fabsf(x) < 1e-30;
         let a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         let finite = crate::math::finite;
