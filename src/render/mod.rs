@@ -74,6 +74,8 @@ use cull::*;
 pub use encode::*;
 #[cfg(lanes)]
 use lanes::{Found, PathState};
+#[cfg(lanes)]
+use primary::wins;
 pub use rows::*;
 #[cfg(not(lanes))]
 use scalar::{Found, PathState};

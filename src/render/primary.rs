@@ -35,8 +35,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     ) -> Option<(f32, usize)> {
         let mut best: Option<(f32, usize)> = None;
         let mut tmax = f32::INFINITY;
-        for &s in cands {
-            let s = s.index();
+        for &id in cands {
+            let s = id.index();
             let (Some(b), Some(k)) = (self.tables.boxes.get(s), self.tables.eye.get(s)) else {
                 continue;
             };
@@ -46,10 +46,17 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             if let Some(t) = k.hit(ray.dir, T_EPS, tmax) {
                 // In scene order a later sphere always takes an equal root (Cortex-M's spans
                 // keep that order: no test there).
-                if !cfg!(lanes) || t < tmax || best.is_none_or(|(_, b)| s > b) {
-                    tmax = t;
-                    best = Some((t, s));
+                #[cfg(lanes)]
+                if !wins(
+                    t,
+                    id,
+                    tmax,
+                    best.map_or(SphereId::NONE, |b| SphereId::new(b.1)),
+                ) {
+                    continue;
                 }
+                tmax = t;
+                best = Some((t, s));
             }
         }
         best
@@ -122,4 +129,13 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             Vec3::ZERO,
         ))
     }
+}
+
+/// Whether a root `t` on `sphere`, at most the closest so far (`best`, on `on`), takes its
+/// place: the closest hit of scene order, where equal roots go to the greater index, whatever
+/// order the spheres come in (hosts sort a deep pile, `Frame::sort_pile`).
+#[cfg(lanes)]
+#[inline(always)]
+pub(super) fn wins(t: f32, sphere: SphereId, best: f32, on: SphereId) -> bool {
+    t < best || on == SphereId::NONE || sphere.index() > on.index()
 }

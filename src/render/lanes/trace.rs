@@ -319,11 +319,3 @@ pub(super) fn pile_key(k: &crate::Prepared) -> f32 {
         0.0
     }
 }
-
-/// Whether a root `t` on `sphere`, at most the lane's closest `best` (on `on`), takes its
-/// place: the closest of scene order, where equal roots go to the greater index, whatever order
-/// the spheres come in.
-#[inline(always)]
-fn wins(t: f32, sphere: SphereId, best: f32, on: SphereId) -> bool {
-    t < best || on == SphereId::NONE || sphere.index() > on.index()
-}
