@@ -163,13 +163,17 @@ impl<const S: usize> Sweep<S> {
             let _ = all.push(e);
         }
         // "Wide": more than 8 times the median half-width.
-        // The half-widths sorted in `key`, which is empty until the sorted entries fill it.
+        // The median half-width, selected in `key`, which is empty until the sorted entries
+        // fill it (a selection, not a sort: the same element, in linear time).
         let hws = &mut self.key;
         for e in all.iter() {
             let _ = hws.push(e.half);
         }
-        hws.sort_unstable_by(|a, b| a.total_cmp(b));
-        let median = hws.get(hws.len() / 2).copied().unwrap_or(0.0);
+        let mid = hws.len() / 2;
+        if mid < hws.len() {
+            hws.select_nth_unstable_by(mid, |a, b| a.total_cmp(b));
+        }
+        let median = hws.get(mid).copied().unwrap_or(0.0);
         hws.clear();
         let is_wide =
             |e: &Entry| !(e.half <= 8.0 * median && e.key.is_finite() && e.key2.is_finite());
