@@ -350,16 +350,14 @@ pub(super) struct Group {
 impl Group {
     /// Grows the box to hold `[lo, hi]`. Comparisons, not `f32::min`/`max` (calls to
     /// `fminf`/`fmaxf` without an FPU instruction for them); a NaN coordinate is skipped as
-    /// `min`/`max` skip it.
+    /// `min`/`max` skip it. Each bound is written whatever the outcome, a select (`minss`,
+    /// `maxss` on x86) rather than a branch, which points scattered over many small spheres
+    /// mispredict.
     #[inline(always)]
     pub(super) fn add_box(&mut self, p_lo: Vec3, p_hi: Vec3) {
         let widen = |l: &mut f32, h: &mut f32, a: f32, b: f32| {
-            if a < *l {
-                *l = a;
-            }
-            if b > *h {
-                *h = b;
-            }
+            *l = if a < *l { a } else { *l };
+            *h = if b > *h { b } else { *h };
         };
         let (lo, hi) = (&mut self.lo, &mut self.hi);
         widen(&mut lo.x, &mut hi.x, p_lo.x, p_hi.x);
