@@ -461,6 +461,21 @@ impl LightKind for Light {
     }
 }
 
+/// [`in_shadow4`] for `light`, its kind matched here, once, rather than for each candidate.
+#[cfg(lanes)]
+#[inline(always)]
+pub(crate) fn in_shadow4_of<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    h: &crate::shading::Hits4,
+    light: &Light,
+    to: &V,
+    ask: u32,
+    light_c: impl Fn(usize) -> Option<f32>,
+    candidates: &[crate::scene::SphereId],
+) -> u32 {
+    per_kind!(light, k => crate::shading::in_shadow4(scene, h, &k, to, ask, light_c, candidates))
+}
+
 #[cfg(all(test, lanes))]
 mod lane_tests {
     use super::*;

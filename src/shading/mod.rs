@@ -30,6 +30,8 @@ mod shadow;
 
 #[cfg(lanes)]
 pub(crate) use lanes::*;
+#[cfg(lanes)]
+pub(crate) use lights::in_shadow4_of;
 pub(crate) use lights::LightKind;
 pub use model::*;
 #[cfg(feature = "refraction")]

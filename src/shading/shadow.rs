@@ -87,7 +87,7 @@ pub fn in_shadow<const S: usize, const L: usize>(
 pub(crate) fn in_shadow_among<const S: usize, const L: usize>(
     scene: &Scene<S, L>,
     hit: &Hit,
-    light: &Light,
+    light: &impl LightKind,
     v: Vec3,
     light_c: impl Fn(usize) -> Option<f32>,
     candidates: impl Iterator<Item = usize>,

@@ -159,7 +159,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         active: u32,
         group: Option<Lists<'_, L>>,
     ) -> Option<crate::simd::V> {
-        use crate::shading::{in_shadow4, shade_model};
+        use crate::shading::{in_shadow4_of, shade_model};
         use crate::simd::{bits, CmpLt, F, V};
         let scene = self.scene;
         let inside = bits(h.normal.dot(h.offset).cmp_lt(F::ZERO));
@@ -176,7 +176,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
             let cs = self.light_consts(i, light);
             let consts = |j: usize| cs.and_then(|c| c.get(j)).copied();
-            in_shadow4(scene, h, light, to, ask, consts, cands)
+            in_shadow4_of(scene, h, light, to, ask, consts, cands)
         };
         let [n, anchor, rel] = [h.normal, h.anchor, h.rel];
         shade_model(scene, h.sphere, [n, anchor, rel, dir], active, blocked)
