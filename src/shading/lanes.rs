@@ -38,12 +38,12 @@ impl Hits4 {
 
 /// [`in_shadow_among`] for the lanes `ask` of four hits on one sphere (`to` their
 /// [`LightKind::to_light`] vectors): the bits of those in shadow. For one kind of light `K`,
-/// so that the loop over the candidates matches on no kind ([`Light`]'s `in_shadow4` does,
-/// once). Each candidate is weighed for the four
-/// lanes at once as far as lanes decide it (`fused`'s steps lane by lane, and the point light's
-/// constants through [`Prepared::hit4`]); the lanes that remain get the scalar test of
-/// that sphere, so every answer is the scalar one. Lanes that see their sphere from inside
-/// take the whole scalar test.
+/// so that the loop over the candidates matches on no kind ([`in_shadow4_of`] matches once
+/// for a [`Light`]). Each candidate is weighed for the four lanes at once as far as lanes
+/// decide it (`fused`'s steps lane by lane, and the point light's constants through
+/// [`Prepared::hit4`]); the lanes that remain get the scalar test of that sphere, so every
+/// answer is the scalar one. Lanes that see their sphere from inside take the whole scalar
+/// test.
 #[cfg(lanes)]
 #[inline(always)]
 pub(crate) fn in_shadow4<const S: usize, const L: usize, K: LightKind>(
