@@ -76,6 +76,28 @@ pub(crate) fn leaving_open4(
     open & !bits(start.clear | start.behind())
 }
 
+/// [`leaving_open4`] turned about: the spheres `spheres` (bits `0..4` of `open`) that one ray
+/// from `anchor + rel` along `d` does not reject at once, each lane the scalar test's first
+/// steps against its sphere (`r²` rounded per lane as the scalar `r * r`). A leaf of the
+/// hierarchy asked at once: most of its spheres are clear misses, and a ray that would test
+/// them one by one mispredicts the loop's branches.
+#[cfg(lanes)]
+#[inline(always)]
+pub(crate) fn leaving_open_among(
+    anchor: Vec3,
+    rel: Vec3,
+    spheres: [&Sphere; 4],
+    d: Vec3,
+    open: u32,
+) -> u32 {
+    use crate::simd::{bits, F, V};
+    let r = F::from(spheres.map(|s| s.radius));
+    let centre = V::from_lanes(spheres.map(|s| s.center));
+    let f = V::splat(anchor).sub(centre).add(V::splat(rel));
+    let start = leaving_start_rr(f, r * r, V::splat(d));
+    open & !bits(start.clear | start.behind())
+}
+
 #[cfg(lanes)]
 impl Prepared {
     /// [`Prepared::hit`] of `LANES` directions at once (coordinates `dx`, `dy`, `dz`, each lane

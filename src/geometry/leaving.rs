@@ -165,8 +165,14 @@ impl<T: IeeeCmp> Leaving<T> {
 /// of radius `r`.
 #[inline(always)]
 pub(super) fn leaving_start<P: Ieee3>(f: P, r: f32, d: P) -> Leaving<P::S> {
+    leaving_start_rr(f, <P::S as Ieee>::splat(r * r), d)
+}
+
+/// [`leaving_start`] with the squared radius `rr` given, which lanes may hold per sphere.
+#[inline(always)]
+pub(super) fn leaving_start_rr<P: Ieee3>(f: P, rr: P::S, d: P) -> Leaving<P::S> {
     let v = <P::S as Ieee>::splat;
-    let (ff, rr) = (f.dot(f), v(r * r));
+    let ff = f.dot(f);
     let c = ff - rr;
     let b = f.dot(d);
     // The f32 c is within ~2⁻²¹ (ff + rr) of the exact one (its rounding and that of f), so

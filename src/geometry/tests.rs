@@ -440,6 +440,56 @@ mod lane_tests {
         );
     }
 
+    /// `leaving_open_among` (one ray, four spheres) rejects a sphere exactly where the scalar
+    /// test's first steps do (its clear miss or `behind`, with `r²` rounded per lane as the
+    /// scalar `r * r`), so only misses of `leaving_hit`; and it rejects most misses. Rays leave
+    /// points near spheres of radius 10⁻² … 10⁴ (as an anchor and an offset) towards spheres
+    /// of other radii ahead, behind and grazing.
+    #[test]
+    fn leaving_open_among_is_the_scalar_first_steps() {
+        let mut g = TestRng(0x6a09_e667_f3bc_c909);
+        let (mut rejected, mut misses, mut hits) = (0u32, 0u32, 0u32);
+        for case in 0..20_000u32 {
+            let scale = libm::powf(10.0, -2.0 + 6.0 * g.unit());
+            let anchor = g.vec(4.0 * scale);
+            let rel = g.vec(scale);
+            let d = loop {
+                let d = g.vec(2.0);
+                if d.length() > 0.1 {
+                    break d;
+                }
+            };
+            let spheres: [Sphere; 4] = core::array::from_fn(|k| {
+                // Half of them centred near the ray, ahead or behind, some grazed.
+                let t = (g.unit() - 0.3) * 8.0 * scale;
+                let near = (anchor + rel) + d * t;
+                let off = if k % 2 == 0 { 0.2 } else { 3.0 };
+                let r = scale * libm::powf(10.0, -1.0 + 1.5 * g.unit());
+                Sphere::new(near + g.vec(off * scale), r)
+            });
+            let open = leaving_open_among(anchor, rel, spheres.each_ref(), d, 0b1111);
+            for (k, s) in spheres.iter().enumerate() {
+                let f = (anchor - s.center) + rel;
+                let start = leaving_start(f, s.radius, d);
+                let scalar_open = !(start.clear || start.behind());
+                let lane_open = open & (1 << k) != 0;
+                assert_eq!(lane_open, scalar_open, "case {case} sphere {k}: {s:?}");
+                let found = Prepared::leaving_hit(anchor, rel, s, d, f32::MIN_POSITIVE, f32::MAX);
+                assert!(
+                    lane_open || found.is_none(),
+                    "case {case} sphere {k} rejected"
+                );
+                hits += found.is_some() as u32;
+                misses += found.is_none() as u32;
+                rejected += !lane_open as u32;
+            }
+        }
+        assert!(
+            rejected > misses - misses / 10 && hits > 10_000,
+            "{rejected} of {misses} misses rejected, {hits} hits"
+        );
+    }
+
     /// Where `fused` computes the compensated `c` (an origin within √3 radii of the centre,
     /// where f32 `c` cancels), the lanes must leave the answer to it: shadow rays that reach
     /// the sphere near their `tmax`, from origins √2 … 2 radii from the centre, where `c`'s

@@ -5,6 +5,8 @@
 //! brute-force test, and ties are broken as the brute-force loop breaks them, so the hits are
 //! its hits, bit for bit. A node has up to four children, whose boxes a walk tests at once,
 //! in vector lanes on hosts: half the levels of a binary tree, and a quarter of the tests.
+//! A closest-hit search asks a leaf's spheres at once too, one ray against four spheres in
+//! lanes: only those that the scalar test would not reject at its first steps take it.
 //! Boxes, not balls: a layer of spheres is thin along one axis, which a ball about it is not
 //! (mirrors1024: 10 % fewer boxes opened than balls, 11 % faster).
 //!
@@ -351,25 +353,17 @@ impl<const S: usize> Bvh<S> {
         // order wins. A sphere's `t` does not depend on `tmax`, which only accepts it.
         let probe = Probe::new(hit.anchor, hit.rel, ray.dir, 0.0);
         let mut walk = Walk::new(self, probe, f32::INFINITY);
-        let mut wide = self.wide.iter();
-        loop {
-            let j = match wide.next() {
-                Some(s) => s.index(),
-                None => match walk.next() {
-                    Some(j) => j,
-                    None => break,
-                },
-            };
+        let mut ask = |j: usize, walk: &mut Walk<'_, S>| {
             let Some(s) = spheres.get(j) else {
-                continue;
+                return;
             };
             if j == from {
-                continue;
+                return;
             }
             let tmax = best.map_or(f32::INFINITY, |b| b.0);
             let Some((t, f)) = Prepared::leaving_hit(hit.anchor, hit.rel, s, ray.dir, T_EPS, tmax)
             else {
-                continue;
+                return;
             };
             let wins = match best {
                 Some((tb, jb, ..)) => t < tb || jb == from || j > jb,
@@ -378,6 +372,21 @@ impl<const S: usize> Bvh<S> {
             if wins {
                 best = Some((t, j, f, s));
                 walk.tmax = t;
+            }
+        };
+        for s in &self.wide {
+            ask(s.index(), &mut walk);
+        }
+        while let Some(leaf) = walk.next_leaf() {
+            for four in leaf.chunks(4) {
+                let mut open = open_among(spheres, four, hit, ray.dir);
+                while open != 0 {
+                    let l = open.trailing_zeros() as usize;
+                    open &= open - 1;
+                    if let Some(s) = four.get(l) {
+                        ask(s.index(), &mut walk);
+                    }
+                }
             }
         }
         best.map(|b| closest_hit(scene, ray, hit, b))
@@ -458,15 +467,12 @@ impl<'b, const S: usize> Walk<'b, S> {
     }
 }
 
-impl<const S: usize> Iterator for Walk<'_, S> {
-    type Item = usize;
-
+impl<'b, const S: usize> Walk<'b, S> {
+    /// The spheres of the next leaf whose box the ray can meet within `tmax`, nearest boxes
+    /// first; `None` once none is left.
     #[inline]
-    fn next(&mut self) -> Option<usize> {
+    fn next_leaf(&mut self) -> Option<&'b [SphereId]> {
         loop {
-            if let Some(s) = self.leaf.next() {
-                return Some(s.index());
-            }
             if self.top == 0 {
                 return None;
             }
@@ -478,16 +484,14 @@ impl<const S: usize> Iterator for Walk<'_, S> {
             let node = *self.bvh.nodes.get(k as usize)?;
             let (first, count) = (node.first as usize, node.count as usize);
             if count > 0 {
-                self.leaf = self.bvh.order.get(first..first + count)?.iter();
-                continue;
+                return self.bvh.order.get(first..first + count);
             }
             if self.top + 4 > DEPTH {
                 // Cannot happen: the build splits a node only while its own stack, which the
                 // walk's mirrors, has room. Were it to, every sphere is named (again): a
                 // sphere asked twice changes no answer.
                 self.top = 0;
-                self.leaf = self.bvh.order.iter();
-                continue;
+                return Some(&self.bvh.order);
             }
             // The boxes the ray can meet, the nearest on top: a closest-hit search finds near
             // hits first and drops what lies behind them.
@@ -521,4 +525,41 @@ impl<const S: usize> Iterator for Walk<'_, S> {
             }
         }
     }
+}
+
+impl<const S: usize> Iterator for Walk<'_, S> {
+    type Item = usize;
+
+    #[inline]
+    fn next(&mut self) -> Option<usize> {
+        loop {
+            if let Some(s) = self.leaf.next() {
+                return Some(s.index());
+            }
+            self.leaf = self.next_leaf()?.iter();
+        }
+    }
+}
+
+/// The spheres of `ids` (up to four, as bits `0..4`) that the ray from `hit` along `d` may meet:
+/// those [`Prepared::leaving_hit`] does not reject at once, decided in lanes for the four at
+/// once where there are lanes, else all of them (each then takes the scalar test).
+#[inline(always)]
+fn open_among(spheres: &[Sphere], ids: &[SphereId], hit: &Hit, d: Vec3) -> u32 {
+    let all = (1u32 << ids.len().min(4)) - 1;
+    #[cfg(lanes)]
+    {
+        // Lanes past the leaf's spheres repeat its first (masked off).
+        let sphere = |l: usize| {
+            ids.get(l)
+                .or(ids.first())
+                .and_then(|s| spheres.get(s.index()))
+        };
+        if let (Some(a), Some(b), Some(c), Some(e)) = (sphere(0), sphere(1), sphere(2), sphere(3)) {
+            return crate::geometry::leaving_open_among(hit.anchor, hit.rel, [a, b, c, e], d, all);
+        }
+    }
+    #[cfg(not(lanes))]
+    let _ = (spheres, hit, d);
+    all
 }
