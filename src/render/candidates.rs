@@ -271,6 +271,12 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     // Out of room: this light tests every sphere for this group.
                     cull.shadow.pool.truncate(start as usize);
                 } else {
+                    // Where lists can be long (a capacity of 8 or less links none of it).
+                    if let Some(list) = cull.shadow.pool.get_mut(start as usize..) {
+                        if Self::SWEEPS && list.len() > LONG {
+                            nearest_first(list, spheres, q);
+                        }
+                    }
                     *range = Candidates::listed(start, cull.shadow.pool.len() as u16);
                 }
             }
@@ -425,3 +431,41 @@ impl Bounds {
         g as u8
     }
 }
+
+/// Moves the [`NEAREST`] of a group's shadow candidates nearest to the group's centre `q` to
+/// the front of its list (a selection, not a sort), so that a shadowed pixel meets its blocker
+/// early: a lit pixel asks every candidate, in any order, a shadowed one stops at the first
+/// that blocks, and a near sphere hides more of the sky. The keys are computed once where the
+/// list fits [`KEYED`], else at each comparison.
+#[inline(never)]
+pub(super) fn nearest_first(list: &mut [SphereId], spheres: &[crate::Sphere], q: Vec3) {
+    let d2 = |s: &SphereId| {
+        spheres.get(s.index()).map_or(0.0, |b| {
+            let v = b.center - q;
+            v.dot(v)
+        })
+    };
+    if list.len() <= NEAREST {
+        return;
+    }
+    if list.len() > KEYED {
+        list.select_nth_unstable_by(NEAREST - 1, |a, b| d2(a).total_cmp(&d2(b)));
+        return;
+    }
+    let mut keyed: heapless::Vec<(f32, SphereId), KEYED> = heapless::Vec::new();
+    for s in list.iter() {
+        let _ = keyed.push((d2(s), *s));
+    }
+    keyed.select_nth_unstable_by(NEAREST - 1, |a, b| a.0.total_cmp(&b.0));
+    for (s, &(_, id)) in list.iter_mut().zip(keyed.iter()) {
+        *s = id;
+    }
+}
+
+/// How many candidates [`nearest_first`] moves to the front: two sets of four lanes.
+pub(super) const NEAREST: usize = 8;
+/// Lists of more candidates than this are ordered by [`nearest_first`]: in a shorter one a
+/// shadowed pixel meets its blocker soon enough, and most lists are short.
+const LONG: usize = 32;
+/// The longest list whose keys [`nearest_first`] keeps on the stack (8 KiB).
+pub(super) const KEYED: usize = 1024;

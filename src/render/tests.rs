@@ -103,6 +103,49 @@ mod pile_tests {
 }
 
 #[cfg(test)]
+mod nearest_tests {
+    use super::super::candidates::{nearest_first, KEYED, NEAREST};
+    use super::super::*;
+    use crate::Sphere;
+
+    /// `nearest_first` keeps a list's spheres (a permutation) and puts the `NEAREST` nearest to
+    /// the point first, for lists with keys kept on the stack and longer ones, with ties and
+    /// indices that name no sphere (distance 0).
+    #[test]
+    fn nearest_candidates_come_first() {
+        let mut g = crate::math::TestRng(0x0dd_ba11);
+        let spheres: [Sphere; 64] = core::array::from_fn(|k| {
+            // Every other sphere repeats the previous one's centre: ties.
+            let c = g.vec(10.0);
+            Sphere::new(if k % 2 == 1 { Vec3::ZERO } else { c }, 0.5)
+        });
+        let q = g.vec(4.0);
+        let d2 = |s: SphereId| {
+            spheres.get(s.index()).map_or(0.0, |b| {
+                let v = b.center - q;
+                v.dot(v)
+            })
+        };
+        for len in [NEAREST + 1, 40, KEYED, KEYED + 300] {
+            // Up to 70 ids: the last six name no sphere.
+            let mut list: heapless::Vec<SphereId, 1400> = (0..len)
+                .map(|_| SphereId::new((g.next() % 70) as usize))
+                .collect();
+            let mut before: heapless::Vec<usize, 1400> = list.iter().map(|s| s.index()).collect();
+            nearest_first(&mut list, &spheres, q);
+            let mut after: heapless::Vec<usize, 1400> = list.iter().map(|s| s.index()).collect();
+            let (front, rest) = list.split_at(NEAREST);
+            let far = front.iter().map(|&s| d2(s)).fold(f32::MIN, f32::max);
+            let near = rest.iter().map(|&s| d2(s)).fold(f32::MAX, f32::min);
+            assert!(far <= near, "len {len}: {far} in front, {near} behind");
+            before.sort_unstable();
+            after.sort_unstable();
+            assert_eq!(before, after, "len {len}: not a permutation");
+        }
+    }
+}
+
+#[cfg(test)]
 mod sweep_tests {
     use super::super::*;
 
