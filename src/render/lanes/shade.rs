@@ -15,6 +15,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     pub(super) fn shade_span4(&self, cull: &mut Cull<S, L>) {
         let len = cull.span_len();
         let (mut done, mut px) = (0u32, [cull.miss; SPAN]);
+        // The pixels of groups not all on one sphere, for `shade_mixed`.
+        let mut mixed = 0u32;
         let mut m = 0;
         while m + 4 <= len {
             // Pixels `k0..k0 + 4`, whose hits are in slots `q..q + 4`.
@@ -36,12 +38,25 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             done |= none << k0;
             let hits = !none & 0b1111;
             if hits == 0b1111 && ss.iter().all(|&x| x == ss[0]) {
-                let colour =
-                    self.shade4::<true, false>(cull, q, ss[0].index(), hits, ts, [x, y, z]);
-                keep4(self, &mut px, &mut done, k0, hits, colour);
-            } else if hits != 0 {
-                self.shade4_mixed(cull, (k0, q), ss, hits, ts, [x, y, z], &mut px, &mut done);
+                let (Ok(ts), slots) = (ts.try_into(), [q, q + 1, q + 2, q + 3]) else {
+                    break;
+                };
+                let stored = (slots, ts, [x, y, z]);
+                let colour = self.shade4::<true, false>(cull, stored, ss[0].index(), hits);
+                keep4(
+                    self,
+                    &mut px,
+                    &mut done,
+                    [k0, k0 + 1, k0 + 2, k0 + 3],
+                    hits,
+                    colour,
+                );
+            } else {
+                mixed |= hits << k0;
             }
+        }
+        if mixed != 0 {
+            self.shade_mixed(cull, mixed, &mut px, &mut done);
         }
         cull.hits.path.px = px;
         cull.hits.path.done = done;
@@ -50,38 +65,41 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
     }
 
-    /// [`Frame::shade_span4`]'s groups of four whose hits are not all on one sphere (an edge):
-    /// one lane pass per sphere, each keeping the lanes that hit it, rather than leaving such a
-    /// group to the scalar path pixel by pixel (scenes of many small spheres have many edges).
-    /// Out of line, so that the common group's code keeps its values in registers.
+    /// [`Frame::shade_span4`]'s hits in groups of four neighbours not all on one sphere (the
+    /// span's pixels `todo`), sphere by sphere: four of a sphere's pixels at a time in the
+    /// span's order, neighbours or not, in one lane pass. Where spheres are small, most groups
+    /// of four neighbours meet two or three, and a pass per sphere in each group shaded few
+    /// lanes. Out of line, so that the common group's code keeps its values in registers.
     #[inline(never)]
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn shade4_mixed(
+    fn shade_mixed(
         &self,
         cull: &Cull<S, L>,
-        (k0, q): (usize, usize),
-        ss: &[SphereId],
-        hits: u32,
-        ts: &[f32],
-        xyz: [[f32; 4]; 3],
+        mut todo: u32,
         px: &mut [Rgb888; SPAN],
         done: &mut u32,
     ) {
-        let mut todo = hits;
+        let base = cull.slot(0);
+        let ss = cull.hits.s.get(base..base + cull.span_len()).unwrap_or(&[]);
         while let Some(&s) = ss.get(todo.trailing_zeros() as usize) {
-            let active = (0..4).fold(0u32, |b, l| b | ((ss.get(l) == Some(&s)) as u32) << l) & todo;
-            todo &= !active;
-            let colour = self.shade4::<false, false>(cull, q, s.index(), active, ts, xyz);
-            keep4(self, px, done, k0, active, colour);
+            let (pixels, n) = same_sphere(ss, todo, s);
+            for &k in pixels.iter().take(n) {
+                todo &= !(1 << k);
+            }
+            let active = (1 << n) - 1;
+            let Some(stored) = stored4(cull, pixels.map(|k| base + k)) else {
+                continue;
+            };
+            let colour = self.shade4::<false, false>(cull, stored, s.index(), active);
+            keep4(self, px, done, pixels, active, colour);
         }
     }
 
-    /// The colours of the lanes `active` of the span's four stored hits from slot `q`, all on
-    /// sphere `si` (`ts` their t, `dir` their view directions by coordinate), shaded in lanes
-    /// as `shade_span4` describes; the other lanes' values are meaningless. `None` where the
-    /// scalar path must shade them (a mirror or glass without `SECONDARY`). `ALL`: all four lanes
-    /// (the common group); a parameter so that the common group and `shade4_mixed` each get a
-    /// copy of their own, whose shadow-test closure is inlined (shared, it goes out of line).
+    /// The colours of the lanes `active` of the span's four stored hits in `slots`, all on
+    /// sphere `si`, shaded in lanes as `shade_span4` describes; the other lanes' values are
+    /// meaningless. `None` where the scalar path must shade them (a mirror or glass without
+    /// `SECONDARY`). `ALL`: all four lanes (the common group); a parameter so that it and
+    /// `shade_mixed` each get a copy of their own, whose shadow-test closure is inlined
+    /// (shared, it goes out of line).
     /// `SECONDARY`: shade a mirror's or glass's lanes too, their secondary rays walked one by
     /// one (`follow4`); else leave them (`None`). A parameter so that the copies in the pixel
     /// loop stay without the walk: [`Frame::shade_span4_secondary`] has its own.
@@ -89,11 +107,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     pub(super) fn shade4<const ALL: bool, const SECONDARY: bool>(
         &self,
         cull: &Cull<S, L>,
-        q: usize,
+        (slots, ts, [x, y, z]): Stored4,
         si: usize,
         active: u32,
-        ts: &[f32],
-        [x, y, z]: [[f32; 4]; 3],
     ) -> Option<crate::simd::V> {
         use crate::scene::hit_vectors;
         use crate::shading::Hits4;
@@ -110,14 +126,21 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             y: F::from(y),
             z: F::from(z),
         };
-        let t = F::from(<[f32; 4]>::try_from(ts).ok()?);
+        let t = F::from(ts);
         // `hit_point_within`'s offset: `f + t·d` within near2 radii, else the one the span's
         // bounds kept, or without them (no shadow rays) `hit_point_far`'s, in lanes here.
         let offset = if self.offset_near(si) {
             V::splat(k.f).add(dir.mul(t))
         } else {
-            match cull.hits.o.get(q..q + 4) {
-                Some(o) if cull.shadow.culled => V::from_lanes([o[0], o[1], o[2], o[3]]),
+            // The common group's slots follow each other: one load.
+            let o = if ALL {
+                let [q, ..] = slots;
+                cull.hits.o.get(q..q + 4).and_then(|o| o.try_into().ok())
+            } else {
+                gather4(&cull.hits.o, slots)
+            };
+            match o {
+                Some(o) if cull.shadow.culled => V::from_lanes(o),
                 _ => crate::geometry::hit_point_far4(dir, t, k.f, sphere)?.1,
             }
         };
@@ -198,15 +221,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             if left == 0 {
                 continue;
             }
-            let [dx, dy, dz] = &cull.hits.path.hit_dc;
-            let lanes = |a: &[f32; DPAD]| -> Option<[f32; 4]> { a.get(q..q + 4)?.try_into().ok() };
-            let (Some(ss), Some(ts), Some(x), Some(y), Some(z)) = (
-                cull.hits.s.get(q..q + 4),
-                cull.hits.t.get(q..q + 4),
-                lanes(dx),
-                lanes(dy),
-                lanes(dz),
-            ) else {
+            let Some(ss) = cull.hits.s.get(q..q + 4) else {
                 break;
             };
             let mut todo = left;
@@ -218,8 +233,18 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 if !self.scene.sends_secondary(si) {
                     continue;
                 }
-                let colour = self.shade4::<false, true>(cull, q, si, active, ts, [x, y, z]);
-                keep4(self, &mut px, &mut done, k0, active, colour);
+                let Some(stored) = stored4(cull, [q, q + 1, q + 2, q + 3]) else {
+                    continue;
+                };
+                let colour = self.shade4::<false, true>(cull, stored, si, active);
+                keep4(
+                    self,
+                    &mut px,
+                    &mut done,
+                    [0, 1, 2, 3].map(|l| k0 + l),
+                    active,
+                    colour,
+                );
             }
         }
         cull.hits.path.px = px;
@@ -262,24 +287,79 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 }
 
-/// Stores the encoded `colour` of the lanes `active` of the group at `k0` into `px`, marking
-/// them done; nothing when the lanes could not shade them (`None`: the scalar path will).
+/// Stores the encoded `colour` of the lanes `active` into `px` at the lanes' pixels `pixels`,
+/// marking them done; nothing when the lanes could not shade them (`None`: the scalar path
+/// will).
 #[inline(always)]
 pub(super) fn keep4<const S: usize, const L: usize>(
     frame: &Frame<'_, S, L>,
     px: &mut [Rgb888; SPAN],
     done: &mut u32,
-    k0: usize,
+    pixels: [usize; 4],
     active: u32,
     colour: Option<crate::simd::V>,
 ) {
     let Some(colour) = colour else { return };
-    for (l, &c) in frame.encode4(&colour).iter().enumerate() {
+    for ((l, &c), &k) in frame.encode4(&colour).iter().enumerate().zip(&pixels) {
         if active & (1 << l) != 0 {
-            if let Some(p) = px.get_mut(k0 + l) {
+            if let Some(p) = px.get_mut(k) {
                 *p = c;
-                *done |= 1 << (k0 + l);
+                *done |= 1 << k;
             }
         }
     }
+}
+
+/// The first four pixels of `todo` (bits of the span) whose hit is on `s` (`ss` by pixel), in
+/// order, and how many there are (at least one where `todo`'s first is on `s`); the lanes
+/// past them repeat the first.
+#[inline(always)]
+fn same_sphere(ss: &[SphereId], todo: u32, s: SphereId) -> ([usize; 4], usize) {
+    let first = todo.trailing_zeros() as usize;
+    // Most often: the next four neighbours.
+    let four = (todo >> first) & 0b1111 == 0b1111;
+    if four
+        && ss
+            .get(first..first + 4)
+            .is_some_and(|f| f.iter().all(|&x| x == s))
+    {
+        return ([first, first + 1, first + 2, first + 3], 4);
+    }
+    let (mut pixels, mut n) = ([first; 4], 0);
+    for k in crate::simd::ones(todo) {
+        if ss.get(k) == Some(&s) {
+            if let Some(p) = pixels.get_mut(n) {
+                *p = k;
+            }
+            n += 1;
+            if n == 4 {
+                break;
+            }
+        }
+    }
+    (pixels, n)
+}
+
+/// The values of `a` in four slots.
+#[inline(always)]
+fn gather4<T: Copy>(a: &[T], [s0, s1, s2, s3]: [usize; 4]) -> Option<[T; 4]> {
+    Some([*a.get(s0)?, *a.get(s1)?, *a.get(s2)?, *a.get(s3)?])
+}
+
+/// Four slots of a span's stored hits, their `t` and their view directions by coordinate.
+type Stored4 = ([usize; 4], [f32; 4], [[f32; 4]; 3]);
+
+/// The stored hits in four slots.
+#[inline(always)]
+fn stored4<const S: usize, const L: usize>(
+    cull: &Cull<S, L>,
+    slots: [usize; 4],
+) -> Option<Stored4> {
+    let [dx, dy, dz] = &cull.hits.path.hit_dc;
+    let dir = [
+        gather4(dx, slots)?,
+        gather4(dy, slots)?,
+        gather4(dz, slots)?,
+    ];
+    Some((slots, gather4(&cull.hits.t, slots)?, dir))
 }
