@@ -1,16 +1,19 @@
-//! The host path's shading: a span's stored hits four neighbouring pixels at a time, one lane
-//! pass per sphere, each lane the scalar shading's operations in the scalar order.
+//! The host path's shading: a span's stored hits four pixels at a time, in lanes, all on one
+//! sphere (four neighbours, or elsewhere four of a sphere's pixels in the span), each lane the
+//! scalar shading's operations in the scalar order.
 
 use super::*;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
-    /// Shades the span's stored primary hits four neighbouring pixels at a time, one lane pass
-    /// for each sphere that sends no secondary ray among the four ([`shade_model`](crate::shading)),
-    /// into `cull.hits.path.px`, marking them in `cull.hits.path.done`: the pixels `next_pixel` would compute one
-    /// by one, bit for bit (the hit records built lane by lane as `make_hit` builds them, the
-    /// shadow tests the scalar ones, asked for the same lanes and lights). Misses are marked
-    /// done too (`px` starts as the background); mirrors and glass then take a pass of their
-    /// own ([`Frame::shade_span4_secondary`]), and every other pixel is left to the scalar path.
+    /// Shades the span's stored primary hits on spheres that send no secondary ray, four at a
+    /// time in lanes ([`shade_model`](crate::shading)): four neighbours on one sphere in one
+    /// pass, the other groups of four sphere by sphere ([`Frame::shade_mixed`]). Into
+    /// `cull.hits.path.px`, marking them in `cull.hits.path.done`: the pixels `next_pixel`
+    /// would compute one by one, bit for bit (the hit records built lane by lane as `make_hit`
+    /// builds them, the shadow tests the scalar ones, asked for the same lanes and lights).
+    /// Misses are marked done too (`px` starts as the background); mirrors and glass then take
+    /// a pass of their own ([`Frame::shade_span4_secondary`]), and every other pixel is left
+    /// to the scalar path.
     #[inline(never)]
     pub(super) fn shade_span4(&self, cull: &mut Cull<S, L>) {
         let len = cull.span_len();
