@@ -254,11 +254,14 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 };
                 match band {
                     // Only the spheres whose key is near the span's, and the wide ones.
-                    Some((sweep, key, band, slack, key2)) => {
+                    Some((sweep, band)) => {
                         for &s in &sweep.wide {
                             consider(s);
                         }
-                        sweep.scan(key, band, slack, key2, &mut consider);
+                        // A NaN reach would drop every entry: then none is dropped.
+                        let far = light.far_depth(q, rho);
+                        let far = if far.is_nan() { f32::INFINITY } else { far };
+                        sweep.scan::<true>(Band { far, ..band }, &mut consider);
                     }
                     None => {
                         for s in 0..spheres.len() {

@@ -21,8 +21,10 @@
 //!    each group bounded by a ball; for each group and light, only the spheres that can meet a
 //!    shadow ray from that ball are kept (for a point light: the cone hull of the light and the
 //!    ball; for a directional light: the ball swept along the light), found in the light's
-//!    sorted band, or among all spheres at a capacity of 8 or less (never a group's own
-//!    sphere, which shadow rays leave analytically); shadow rays stop at the first blocker;
+//!    sorted band among those that begin no farther along the light's rays than the ball
+//!    reaches, or among all spheres at a capacity of 8 or less (never a group's own sphere,
+//!    which shadow rays leave analytically); shadow rays stop at the first blocker, and a long
+//!    list puts its spheres nearest the ball first;
 //! 3. the pixels are shaded with those lists, from the stored hits and ray directions; every
 //!    miss shows the background whatever its ray, so the row shades one miss for all.
 //!

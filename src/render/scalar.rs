@@ -192,13 +192,11 @@ impl<const S: usize> Blockers<'_, S> {
 impl<const S: usize> Sweep<S> {
     /// The start of [`Sweep::scan`] from entry `i`: nothing before the scalar scan here.
     #[inline(always)]
-    pub(super) fn scan_lanes(
+    pub(super) fn scan_lanes<const DEPTH: bool>(
         &self,
         i: usize,
         _hi: f32,
-        _key: f32,
-        _slack: f32,
-        _key2: f32,
+        _band: Band,
         _consider: &mut impl FnMut(SphereId),
     ) -> Option<usize> {
         Some(i)

@@ -148,7 +148,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if !(rho.is_finite() && q.is_finite()) {
             return None;
         }
-        let (sweep, key, band, slack, key2) = self.tables.sweeps.get(i)?.band(light, q, rho)?;
+        let (sweep, band) = self.tables.sweeps.get(i)?.band(light, q, rho)?;
         let spheres = self.scene.spheres();
         let (mut list, mut full) = (List::<SHORT>::new(), false);
         let mut consider = |s: SphereId| {
@@ -160,7 +160,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         for &s in &sweep.wide {
             consider(s);
         }
-        sweep.scan(key, band, slack, key2, &mut consider);
+        sweep.scan::<false>(band, &mut consider);
         (!full).then_some(list)
     }
 

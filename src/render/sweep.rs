@@ -45,6 +45,8 @@ pub(super) struct Sweep<const S: usize> {
     /// `key2`: a sphere must be near the span in both keys, a tube along the light instead of
     /// a slab.
     pub(super) axis2: Vec3,
+    /// How far along the light's rays each one begins ([`LightKind::near_depth`]).
+    pub(super) depth: heapless::Vec<f32, S>,
 }
 
 /// The entries from which a host's sweep keeps slabs sorted by the second key
@@ -62,17 +64,35 @@ pub(super) struct Entry {
     pub(super) sphere: SphereId,
     /// Its coordinate along `Sweep::axis2`.
     pub(super) key2: f32,
+    /// How far along the light's rays it begins.
+    pub(super) depth: f32,
 }
 
 impl Entry {
-    pub(super) fn new(key: f32, half: f32, sphere: usize, key2: f32) -> Self {
+    pub(super) fn new(key: f32, half: f32, sphere: usize, key2: f32, depth: f32) -> Self {
         Entry {
             key,
             half,
             sphere: SphereId::new(sphere),
             key2,
+            depth,
         }
     }
+}
+
+/// What a scan asks of a sweep's entries, for shadow rays from one ball ([`Sweep::band`]).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Band {
+    /// The ball's key, and how far from it an entry's key may lie.
+    pub(super) key: f32,
+    pub(super) band: f32,
+    /// What the ball adds to every half-width.
+    pub(super) slack: f32,
+    /// The ball's key along `Sweep::axis2`.
+    pub(super) key2: f32,
+    /// How far along the light's rays the ball reaches ([`LightKind::band`]): an entry that
+    /// begins beyond it lies behind the ball and blocks none of its shadow rays.
+    pub(super) far: f32,
 }
 
 impl<const S: usize> Sweep<S> {
@@ -82,6 +102,7 @@ impl<const S: usize> Sweep<S> {
             key: heapless::Vec::new(),
             half: heapless::Vec::new(),
             key2: heapless::Vec::new(),
+            depth: heapless::Vec::new(),
             sphere: heapless::Vec::new(),
             hw_max: 0.0,
             start: heapless::Vec::new(),
@@ -115,6 +136,7 @@ impl<const S: usize> Sweep<S> {
         self.key.clear();
         self.half.clear();
         self.key2.clear();
+        self.depth.clear();
         self.sphere.clear();
         self.hw_max = 0.0;
         self.start.clear();
@@ -159,7 +181,7 @@ impl<const S: usize> Sweep<S> {
         for (s, sphere) in spheres.iter().enumerate() {
             let (m, r) = (sphere.center, sphere.radius);
             let (key, half, key2) = light.sweep_entry(m, r, axis, axis2);
-            let e = Entry::new(key, half, s, key2);
+            let e = Entry::new(key, half, s, key2, light.near_depth(m, r));
             let _ = all.push(e);
         }
         // "Wide": more than 8 times the median half-width.
@@ -193,6 +215,7 @@ impl<const S: usize> Sweep<S> {
             let _ = self.key.push(e.key);
             let _ = self.half.push(e.half);
             let _ = self.key2.push(e.key2);
+            let _ = self.depth.push(e.depth);
             let _ = self.sphere.push(e.sphere);
             self.hw_max = self.hw_max.max(e.half);
         }
@@ -223,11 +246,13 @@ impl<const S: usize> Sweep<S> {
         self.key.clear();
         self.half.clear();
         self.key2.clear();
+        self.depth.clear();
         self.sphere.clear();
         for e in all.iter() {
             let _ = self.key.push(e.key);
             let _ = self.half.push(e.half);
             let _ = self.key2.push(e.key2);
+            let _ = self.depth.push(e.depth);
             let _ = self.sphere.push(e.sphere);
         }
     }
@@ -292,34 +317,31 @@ impl<const S: usize> Sweep<S> {
     }
 
     /// Calls `consider` with the sorted spheres, in their order, whose `|key_j − key| ≤
-    /// half_j + slack` and `|key2_j − key2| ≤ half_j + slack` among those with `key_j` within
-    /// `band` of `key` (see [`Sweep::band`]), and a few before them that pass the same test
-    /// only by rounding (a candidate more, which the shadow test decides).
+    /// half_j + slack`, `|key2_j − key2| ≤ half_j + slack` and, with `DEPTH`, `depth_j ≤ far`
+    /// among those with `key_j` within `band` of `key` (see [`Sweep::band`]), and a few before
+    /// them that pass the same test only by rounding (a candidate more, which the shadow test
+    /// decides). `DEPTH` where the list serves many shadow rays (a span's group): the depth
+    /// costs every scan a test per entry, which a single ray's list (a secondary hit's) does
+    /// not repay where the spheres lie side by side.
     #[inline(always)]
-    pub(super) fn scan(
-        &self,
-        key: f32,
-        band: f32,
-        slack: f32,
-        key2: f32,
-        consider: &mut impl FnMut(SphereId),
-    ) {
+    pub(super) fn scan<const DEPTH: bool>(&self, b: Band, consider: &mut impl FnMut(SphereId)) {
         if self.slabs {
-            return self.scan_slabs(key, band, slack, key2, consider);
+            return self.scan_slabs::<DEPTH>(b, consider);
         }
-        let (hi, n) = (key + band, self.key.len());
+        let (hi, n) = (b.key + b.band, self.key.len());
         // Within a few entries of the first key ≥ key − band: the keys before that are more
         // than `band` from `key` but for rounding, and the filter below decides them.
-        let i = self.near_first(key - band);
+        let i = self.near_first(b.key - b.band);
         // Hosts first take four entries at a time (`Sweep::scan_lanes`); `None`: done.
-        let Some(mut i) = self.scan_lanes(i, hi, key, slack, key2, consider) else {
+        let Some(mut i) = self.scan_lanes::<DEPTH>(i, hi, b, consider) else {
             return;
         };
         while i < n {
-            let (Some(&k), Some(&h), Some(&k2), Some(&s)) = (
+            let (Some(&k), Some(&h), Some(&k2), Some(&d), Some(&s)) = (
                 self.key.get(i),
                 self.half.get(i),
                 self.key2.get(i),
+                self.depth_at::<DEPTH>(i),
                 self.sphere.get(i),
             ) else {
                 return;
@@ -327,12 +349,30 @@ impl<const S: usize> Sweep<S> {
             if k > hi {
                 return;
             }
-            // `&`, not `&&`: one branch on the outcome rather than two.
-            let near = h + slack;
-            if (libm::fabsf(k - key) <= near) & (libm::fabsf(k2 - key2) <= near) {
+            if self.passes::<DEPTH>(b, k, h, k2, d) {
                 consider(s);
             }
             i += 1;
+        }
+    }
+
+    /// Whether the entry of key `k`, half-width `h`, second key `k2` and depth `d` passes the
+    /// filter of [`Sweep::scan`].
+    #[inline(always)]
+    fn passes<const DEPTH: bool>(&self, b: Band, k: f32, h: f32, k2: f32, d: f32) -> bool {
+        // `&`, not `&&`: one branch on the outcome rather than three.
+        let near = h + b.slack;
+        let ahead = !DEPTH || d <= b.far;
+        (libm::fabsf(k - b.key) <= near) & (libm::fabsf(k2 - b.key2) <= near) & ahead
+    }
+
+    /// Entry `i`'s depth where `DEPTH` asks for it, else a stand-in that is never read.
+    #[inline(always)]
+    fn depth_at<const DEPTH: bool>(&self, i: usize) -> Option<&f32> {
+        if DEPTH {
+            self.depth.get(i)
+        } else {
+            Some(&0.0)
         }
     }
 
@@ -342,19 +382,12 @@ impl<const S: usize> Sweep<S> {
     /// and a few ulp of the key, far beyond the rounding of the filter's differences, which
     /// then decides each entry as `scan` does: the same spheres, in another order.
     #[inline(never)]
-    fn scan_slabs(
-        &self,
-        key: f32,
-        band: f32,
-        slack: f32,
-        key2: f32,
-        consider: &mut impl FnMut(SphereId),
-    ) {
-        let widen = |k: f32| band * (1.0 + 1.0 / 1024.0) + libm::fabsf(k) * (4.0 * f32::EPSILON);
-        let (w, w2) = (widen(key), widen(key2));
-        let (lo2, hi2) = (key2 - w2, key2 + w2);
-        for b in self.bucket(key - w)..=self.bucket(key + w) {
-            let (Some(&lo), Some(&hi)) = (self.start.get(b), self.start.get(b + 1)) else {
+    fn scan_slabs<const DEPTH: bool>(&self, b: Band, consider: &mut impl FnMut(SphereId)) {
+        let widen = |k: f32| b.band * (1.0 + 1.0 / 1024.0) + libm::fabsf(k) * (4.0 * f32::EPSILON);
+        let (w, w2) = (widen(b.key), widen(b.key2));
+        let (lo2, hi2) = (b.key2 - w2, b.key2 + w2);
+        for slab in self.bucket(b.key - w)..=self.bucket(b.key + w) {
+            let (Some(&lo), Some(&hi)) = (self.start.get(slab), self.start.get(slab + 1)) else {
                 return;
             };
             let (lo, hi) = (lo as usize, hi as usize);
@@ -363,10 +396,11 @@ impl<const S: usize> Sweep<S> {
             };
             let mut i = lo + k2s.partition_point(|&k2| k2 < lo2);
             while i < hi {
-                let (Some(&k), Some(&h), Some(&k2), Some(&s)) = (
+                let (Some(&k), Some(&h), Some(&k2), Some(&d), Some(&s)) = (
                     self.key.get(i),
                     self.half.get(i),
                     self.key2.get(i),
+                    self.depth_at::<DEPTH>(i),
                     self.sphere.get(i),
                 ) else {
                     return;
@@ -374,8 +408,7 @@ impl<const S: usize> Sweep<S> {
                 if k2 > hi2 {
                     break;
                 }
-                let near = h + slack;
-                if (libm::fabsf(k - key) <= near) & (libm::fabsf(k2 - key2) <= near) {
+                if self.passes::<DEPTH>(b, k, h, k2, d) {
                     consider(s);
                 }
                 i += 1;
@@ -383,16 +416,12 @@ impl<const S: usize> Sweep<S> {
         }
     }
 
-    /// For shadow rays from the ball `(q, rho)`: `(self, key, band, slack, key2)` where the
-    /// spheres to consider have `|key_j − key| ≤ half-width_j + slack` (so `key_j` within
-    /// `band`) and, along `axis2`, `|key2_j − key2| ≤ half-width_j + slack`; or `None` when the
-    /// sweep does not apply (no axis, or the light inside the ball).
-    pub(super) fn band(
-        &self,
-        light: &Light,
-        q: Vec3,
-        rho: f32,
-    ) -> Option<(&Self, f32, f32, f32, f32)> {
+    /// For shadow rays from the ball `(q, rho)`: the [`Band`] where the spheres to consider
+    /// have `|key_j − key| ≤ half-width_j + slack` (so `key_j` within `band`), along `axis2`
+    /// `|key2_j − key2| ≤ half-width_j + slack`, and begin no farther along the light's rays
+    /// than the ball reaches; or `None` when the sweep does not apply (no axis, or the light
+    /// inside the ball).
+    pub(super) fn band(&self, light: &Light, q: Vec3, rho: f32) -> Option<(&Self, Band)> {
         if self.axis == Vec3::ZERO {
             return None;
         }
@@ -400,6 +429,18 @@ impl<const S: usize> Sweep<S> {
         if !(key.is_finite() && slack.is_finite() && key2.is_finite()) {
             return None;
         }
-        Some((self, key, self.hw_max + slack, slack, key2))
+        let band = self.hw_max + slack;
+        // Only a scan with `DEPTH` reads it.
+        let far = f32::INFINITY;
+        Some((
+            self,
+            Band {
+                key,
+                band,
+                slack,
+                key2,
+                far,
+            },
+        ))
     }
 }

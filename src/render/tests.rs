@@ -234,7 +234,7 @@ mod slab_tests {
                     (g.unit() * 2.0 - 1.0, g.unit() * 2.0 - 1.0)
                 };
                 let half = [0.0, 1e-4, 1e-3, 0.01][s % 4] * g.unit();
-                let _ = all.push(Entry::new(k * scale, half * scale, s, k2 * scale));
+                let _ = all.push(Entry::new(k * scale, half * scale, s, k2 * scale, 0.0));
             }
             let entries = all.clone();
             let mut w: Box<Sweep<8192>> = Box::new(Sweep::empty());
@@ -256,7 +256,14 @@ mod slab_tests {
                     ),
                 };
                 let mut got: heapless::Vec<usize, 8192> = heapless::Vec::new();
-                w.scan(key, w.hw_max + slack, slack, key2, &mut |s: SphereId| {
+                let band = Band {
+                    key,
+                    band: w.hw_max + slack,
+                    slack,
+                    key2,
+                    far: 0.0,
+                };
+                w.scan::<false>(band, &mut |s: SphereId| {
                     let _ = got.push(s.index());
                 });
                 got.sort_unstable();

@@ -27,6 +27,10 @@ pub(crate) struct Directional {
 /// and of the unit directions' components.
 const ANGLE_MARGIN: f32 = 1e-4;
 
+/// The relative pad of [`LightKind::near_depth`] and [`LightKind::far_depth`]: far above the rounding of a distance or a dot product (a few ε of
+/// it, or of `|m|₁`).
+const DEPTH_PAD: f32 = 1e-5;
+
 /// The sum of the absolute coordinates, `|w|₁ ≥ |w|`: a pad without a square root.
 #[inline(always)]
 fn l1(w: Vec3) -> f32 {
@@ -73,6 +77,18 @@ pub(crate) trait LightKind {
     /// The keys of the ball `(q, rho)` along `axis` and `axis2`, with the slack its bound adds
     /// to every half-width, or `None` when a sweep cannot bound it (the light inside the ball).
     fn band(&self, q: Vec3, rho: f32, axis: Vec3, axis2: Vec3) -> Option<(f32, f32, f32)>;
+
+    /// How far along the light's rays the ball `(q, rho)` reaches, plus a pad (see
+    /// [`LightKind::near_depth`]).
+    fn far_depth(&self, q: Vec3, rho: f32) -> f32;
+
+    /// How far along the light's rays the sphere (centre `m`, radius `r`) begins: its least
+    /// distance from a point light, its least position along a directional light's direction,
+    /// less a pad. A blocker's points on a shadow ray lie nearer the light than the ray's
+    /// origin, so a sphere can block a ray from the ball `(q, rho)` only where this is at most
+    /// [`LightKind::far_depth`]`(q, rho)`: a sweep's third filter, which drops the spheres
+    /// behind a span's hits (most of a cluster, seen from its lit side).
+    fn near_depth(&self, m: Vec3, r: f32) -> f32;
 
     /// Whether spheres (centres `m` by coordinate, radii `r`) can block a shadow ray towards the
     /// light from some point of the ball `(q, rho)`: a conservative test, padded well beyond the
@@ -223,6 +239,21 @@ impl LightKind for Point {
         Some((key, tan_theta + ANGLE_MARGIN, key2))
     }
 
+    fn far_depth(&self, q: Vec3, rho: f32) -> f32 {
+        let v = q - self.position;
+        let len = libm::sqrtf(v.dot(v));
+        len + rho + DEPTH_PAD * (len + rho)
+    }
+
+    fn near_depth(&self, m: Vec3, r: f32) -> f32 {
+        // |w| rounds within a few ε of itself (w = m − light is one rounding per coordinate);
+        // the radius padded as `may_block` pads it, and 10⁻⁵ of the distance.
+        let w = m - self.position;
+        let len = libm::sqrtf(w.dot(w));
+        let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(w) + r);
+        len - big - DEPTH_PAD * (len + big)
+    }
+
     #[inline(always)]
     fn may_block_of<T: IeeeCmp>(&self, [mx, my, mz]: [T; 3], r: T, q: Vec3, rho: f32) -> T::Mask {
         // Shadow rays run from the light to points of the ball: the segments fill the cone
@@ -334,6 +365,18 @@ impl LightKind for Directional {
         ))
     }
 
+    fn far_depth(&self, q: Vec3, rho: f32) -> f32 {
+        q.dot(self.direction) + rho + DEPTH_PAD * (l1(q) + rho)
+    }
+
+    fn near_depth(&self, m: Vec3, r: f32) -> f32 {
+        // m·u rounds within a few ε of |m|₁ (u = `direction`, unit within a few ε: the scene
+        // normalises it): 10⁻⁵ of it pads that, and the radius is padded as `may_block` pads
+        // it.
+        let big = r * (1.0 + 2e-4) + 2.0 * ETA * (l1(m) + r);
+        m.dot(self.direction) - big - DEPTH_PAD * (l1(m) + big)
+    }
+
     #[inline(always)]
     fn may_block_of<T: IeeeCmp>(&self, [mx, my, mz]: [T; 3], r: T, q: Vec3, rho: f32) -> T::Mask {
         // Shadow rays leave points of the ball along l = −direction: the sphere misses them
@@ -437,6 +480,12 @@ impl LightKind for Light {
     #[inline]
     fn band(&self, q: Vec3, rho: f32, axis: Vec3, axis2: Vec3) -> Option<(f32, f32, f32)> {
         per_kind!(self, k => k.band(q, rho, axis, axis2))
+    }
+    fn far_depth(&self, q: Vec3, rho: f32) -> f32 {
+        per_kind!(self, k => k.far_depth(q, rho))
+    }
+    fn near_depth(&self, m: Vec3, r: f32) -> f32 {
+        per_kind!(self, k => k.near_depth(m, r))
     }
     #[inline(always)]
     fn may_block_of<T: IeeeCmp>(&self, m: [T; 3], r: T, q: Vec3, rho: f32) -> T::Mask {
@@ -548,5 +597,76 @@ mod lane_tests {
             }
         }
         assert!(yes > 10_000 && no > 10_000, "{yes} {no}");
+    }
+}
+
+#[cfg(test)]
+mod depth_tests {
+    use super::*;
+    use crate::math::Color;
+
+    /// A sphere that meets a shadow ray from a point of the ball `(q, rho)` (its segment to a
+    /// point light, its ray towards a directional one) begins no farther along the light's rays
+    /// than the ball reaches: `near_depth ≤ far_depth`, the sweep's depth filter never drops a
+    /// blocker. Spheres touching the rays just inside their radius, at every scale and far
+    /// from the origin; and spheres behind the ball are dropped (a filter that drops nothing
+    /// would pass the first check alone).
+    #[test]
+    fn depth_filter_keeps_every_blocker() {
+        let mut g = crate::math::TestRng(0x1f83_d9ab_fb41_bd6b);
+        let (mut kept, mut behind, mut dropped) = (0u32, 0u32, 0u32);
+        for case in 0..40_000 {
+            let scale = [1e-3f32, 1.0, 1e3][case % 3];
+            let shift = if case % 5 == 0 {
+                Vec3::splat(1e4 * scale)
+            } else {
+                Vec3::ZERO
+            };
+            let (q, rho) = (shift + g.vec(8.0 * scale), g.unit() * scale);
+            let d = g.vec(1.0).normalized().unwrap_or(Vec3::new(0.0, -1.0, 0.0));
+            let light = if case % 2 == 0 {
+                Light::Point {
+                    position: shift + g.vec(16.0 * scale),
+                    intensity: Color::ONE,
+                }
+            } else {
+                Light::Directional {
+                    direction: d,
+                    intensity: Color::ONE,
+                }
+            };
+            // A point y of the ball, and a point x on its shadow ray.
+            let y = q + g.vec(1.0).normalized().unwrap_or(Vec3::ZERO) * (rho * g.unit());
+            let x = match light {
+                Light::Point { position, .. } => y + (position - y) * g.unit(),
+                Light::Directional { direction, .. } => y - direction * (8.0 * scale * g.unit()),
+            };
+            // A sphere through x, its centre up to 0.999 radii from it in any direction.
+            let r = scale * (0.01 + g.unit());
+            let side = g.vec(1.0).normalized().unwrap_or(Vec3::new(1.0, 0.0, 0.0));
+            let m = x + side * (0.999 * r * g.unit());
+            let (near, far) = (light.near_depth(m, r), light.far_depth(q, rho));
+            assert!(
+                near <= far,
+                "{light:?} ball {q:?} {rho} sphere {m:?} {r}: {near} > {far}"
+            );
+            kept += 1;
+            // The same sphere moved behind the ball, past its radius, the ball's and 1 %, and
+            // 10⁻³ of the coordinates' size (the pads grow with it).
+            let away = match light {
+                Light::Point { position, .. } => (q - position).normalized().unwrap_or(Vec3::ZERO),
+                Light::Directional { direction, .. } => direction,
+            };
+            let size = q.x.abs() + q.y.abs() + q.z.abs() + scale;
+            let back = q + away * ((r + rho) * 1.01 + 1e-3 * size * (1.0 + g.unit()));
+            if light.origin().is_none_or(|p| (q - p).length() > 2.0 * rho) {
+                behind += 1;
+                dropped += (light.near_depth(back, r) > far) as u32;
+            }
+        }
+        assert!(
+            kept == 40_000 && dropped == behind && behind > 30_000,
+            "{dropped} of {behind}"
+        );
     }
 }

@@ -318,13 +318,11 @@ impl<const S: usize> Sweep<S> {
     /// comparisons lane by lane, and as the keys are sorted, the entries within the band are a
     /// prefix of the four. Where the scalar scan goes on, or `None` when the band has ended.
     #[inline(always)]
-    pub(super) fn scan_lanes(
+    pub(super) fn scan_lanes<const DEPTH: bool>(
         &self,
         mut i: usize,
         hi: f32,
-        key: f32,
-        slack: f32,
-        key2: f32,
+        b: Band,
         consider: &mut impl FnMut(SphereId),
     ) -> Option<usize> {
         use crate::simd::CmpLe;
@@ -333,18 +331,27 @@ impl<const S: usize> Sweep<S> {
             v.get(i..).unwrap_or(&[])
         }
         let (ks, hs, k2s) = (from(&self.key, i), from(&self.half, i), from(&self.key2, i));
+        // Without `DEPTH`, the keys stand in for the depths, never read.
+        let ds = from(if DEPTH { &self.depth } else { &self.key }, i);
         let ss = self.sphere.get(i..).unwrap_or(&[]);
         let quads = ks.chunks_exact(4).zip(hs.chunks_exact(4));
-        for ((k, h), (k2, s)) in quads.zip(k2s.chunks_exact(4).zip(ss.chunks_exact(4))) {
+        let rest = k2s.chunks_exact(4).zip(ds.chunks_exact(4));
+        for ((k, h), ((k2, d), s)) in quads.zip(rest.zip(ss.chunks_exact(4))) {
             let four = |c: &[f32]| <[f32; 4]>::try_from(c).ok().map(F::from);
-            let (Some(k), Some(h), Some(k2)) = (four(k), four(h), four(k2)) else {
+            let (Some(k), Some(h), Some(k2), Some(d)) = (four(k), four(h), four(k2), four(d))
+            else {
                 break;
             };
-            let near = h + F::splat(slack);
+            let near = h + F::splat(b.slack);
             let within = k.cmp_le(F::splat(hi));
             let keep = within
-                & (k - F::splat(key)).abs().cmp_le(near)
-                & (k2 - F::splat(key2)).abs().cmp_le(near);
+                & (k - F::splat(b.key)).abs().cmp_le(near)
+                & (k2 - F::splat(b.key2)).abs().cmp_le(near);
+            let keep = if DEPTH {
+                keep & d.cmp_le(F::splat(b.far))
+            } else {
+                keep
+            };
             for l in ones(bits(keep)) {
                 if let Some(&s) = s.get(l) {
                     consider(s);
