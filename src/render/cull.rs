@@ -110,6 +110,9 @@ pub(super) struct SpanHits {
 pub(super) struct Spheres<const S: usize> {
     pub(super) row: List<S>,
     pub(super) span: List<S>,
+    /// The row's list is sorted nearest first (hosts, `Frame::sort_piles`), and so is every
+    /// span's drawn from it.
+    pub(super) sorted: bool,
 }
 
 /// The shadow candidates of the span's hit groups: for each group and light the spheres that can
@@ -144,6 +147,7 @@ impl<const S: usize, const L: usize> Cull<S, L> {
             spheres: Spheres {
                 row: heapless::Vec::new(),
                 span: heapless::Vec::new(),
+                sorted: false,
             },
             shadow: ShadowLists {
                 pool: heapless::Vec::new(),

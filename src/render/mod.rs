@@ -162,6 +162,8 @@ struct Tables<'a, const S: usize, const L: usize> {
     sweeps: &'a [Sweep<S>],
     all: &'a [SphereId],
     near: &'a [bool],
+    #[cfg(lanes)]
+    pile: &'a [f32],
     bvh: &'a Bvh<S>,
 }
 
@@ -214,6 +216,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 sweeps: storage.sweeps.get(..storage.swept).unwrap_or(&[]),
                 all: &storage.all,
                 near: &storage.near,
+                #[cfg(lanes)]
+                pile: &storage.pile,
                 bvh: &storage.bvh,
             },
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),

@@ -23,7 +23,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The closest hit of the primary ray through column `i`, as `(t, sphere)`, against the
     /// spheres of `cands` whose box holds that column (the row is the caller's): the closest
     /// of scene order, where equal roots go to the greater index, in whatever order `cands`
-    /// come (hosts sort a deep pile, `Frame::sort_pile`). Inlined in [`Frame::gather`]'s pixel loop where spans cannot keep every view
+    /// come (hosts sort a tile's spheres at its first deep pile, `Frame::sort_piles`). Inlined in [`Frame::gather`]'s pixel loop where spans cannot keep every view
     /// direction (soft-float Arm; elsewhere [`Frame::trace_span`] finds the same hits sphere by
     /// sphere); the other callers share [`Frame::primary_hit_among`].
     #[inline]
@@ -133,7 +133,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
 
 /// Whether a root `t` on `sphere`, at most the closest so far (`best`, on `on`), takes its
 /// place: the closest hit of scene order, where equal roots go to the greater index, whatever
-/// order the spheres come in (hosts sort a deep pile, `Frame::sort_pile`).
+/// order the spheres come in (hosts sort a tile's spheres at its first deep pile,
+/// `Frame::sort_piles`).
 #[cfg(lanes)]
 #[inline(always)]
 pub(super) fn wins(t: f32, sphere: SphereId, best: f32, on: SphereId) -> bool {

@@ -187,6 +187,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Starts row `j`: its spheres are those whose box crosses it, in scene order.
     pub(super) fn start_row(&self, j: u32, cull: &mut Cull<S, L>) {
         cull.spheres.row.clear();
+        cull.spheres.sorted = false;
         for (s, b) in self.tables.boxes.iter().enumerate() {
             if b.has_row(j) {
                 let _ = cull.spheres.row.push(SphereId::new(s));

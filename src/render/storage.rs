@@ -50,6 +50,9 @@ pub struct FrameStorage<const S: usize, const L: usize, P: Place = Inline> {
     pub(super) all: P::Slot<List<S>>,
     /// Per sphere, [`Frame::offset_near`]'s answer, decided once.
     pub(super) near: P::Slot<heapless::Vec<bool, S>>,
+    /// Per sphere, the order of a deep pile of spheres (hosts: `lanes::pile_key`).
+    #[cfg(lanes)]
+    pub(super) pile: P::Slot<heapless::Vec<f32, S>>,
     /// The hierarchy that culls secondary rays, where the scene has them and `SWEEPS`.
     pub(super) bvh: P::Slot<Bvh<S>>,
 }
@@ -150,6 +153,8 @@ impl<const S: usize, const L: usize> FrameStorage<S, L, Inline> {
         entries: InlineSlot(heapless::Vec::new()),
         all: InlineSlot(heapless::Vec::new()),
         near: InlineSlot(heapless::Vec::new()),
+        #[cfg(lanes)]
+        pile: InlineSlot(heapless::Vec::new()),
         bvh: InlineSlot(Bvh::EMPTY),
     };
 }
@@ -177,6 +182,8 @@ impl<const S: usize, const L: usize> FrameStorage<S, L, Heap> {
             entries: boxed(),
             all: boxed(),
             near: boxed(),
+            #[cfg(lanes)]
+            pile: boxed(),
             bvh: boxed(),
         }
     }
@@ -238,6 +245,8 @@ impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
         self.swept = 0;
         self.all.clear();
         self.near.clear();
+        #[cfg(lanes)]
+        self.pile.clear();
         // Capacity S, at most S spheres (below `SphereId::REST`, `Frame::FITS`), and at most L
         // lights (the scene's capacity): none of the pushes can fail.
         let screen = Screen::new(camera);
@@ -248,6 +257,8 @@ impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
                 .near
                 .push(crate::geometry::offset_is_near(k.f, k.r, scene.near2(s)));
             let _ = self.all.push(SphereId::new(s));
+            #[cfg(lanes)]
+            let _ = self.pile.push(super::lanes::pile_key(&k));
             let _ = self.eye.push(k);
         }
         if sweeps {

@@ -13,7 +13,7 @@ mod trace;
 
 #[cfg(test)]
 pub(super) use trace::nearest_root;
-use trace::pile_key;
+pub(super) use trace::pile_key;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The pixel `(i, j)` of the span just started: hosts shade the whole span at its start
@@ -58,30 +58,26 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         if cull.spheres.span.len() > CROWD {
             self.narrow_crowded(cull);
         }
-        if cull.spheres.span.len() > DEEP {
-            self.sort_pile(cull);
+        if cull.spheres.span.len() > DEEP && !cull.spheres.sorted {
+            self.sort_piles(cull);
         }
     }
 
-    /// Orders a deep pile's spheres (a span that meets more than [`DEEP`] boxes) by
-    /// [`pile_key`], nearest first, so that [`Frame::trace_lanes`] meets each pixel's front
-    /// sphere early and stops where every sphere left lies beyond every hit so far. Piles of
-    /// more than [`PILE_SORT`] spheres keep their order (and their rows test each sphere).
+    /// Orders the tile's spheres by [`pile_key`], nearest first, at its first deep pile (a
+    /// span that meets more than [`DEEP`] boxes): the rows' list, and the span's drawn from it.
+    /// Every later span of the tile draws its spheres from the sorted list, in its order, so
+    /// its pile is sorted with no sort of its own, and [`Frame::trace_lanes`] meets each
+    /// pixel's front sphere early and stops where every sphere left lies beyond every hit so
+    /// far. Out of scene order, every span of the tile then takes the pile's tie rule
+    /// (`Cull::piled`).
     #[inline(never)]
-    fn sort_pile(&self, cull: &mut Cull<S, L>) {
-        let span = &mut cull.spheres.span;
-        if span.len() > PILE_SORT {
-            return;
-        }
-        let mut keyed: heapless::Vec<(f32, SphereId), PILE_SORT> = heapless::Vec::new();
-        for &s in span.iter() {
-            let key = self.tables.eye.get(s.index()).map_or(0.0, pile_key);
-            let _ = keyed.push((key, s));
-        }
-        keyed.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        for (s, &(_, id)) in span.iter_mut().zip(keyed.iter()) {
-            *s = id;
-        }
+    fn sort_piles(&self, cull: &mut Cull<S, L>) {
+        let pile = self.tables.pile;
+        let key = |s: &SphereId| pile.get(s.index()).copied().unwrap_or(0.0);
+        let by_key = |a: &SphereId, b: &SphereId| key(a).total_cmp(&key(b));
+        cull.spheres.row.sort_unstable_by(by_key);
+        cull.spheres.span.sort_unstable_by(by_key);
+        cull.spheres.sorted = true;
     }
 
     /// [`Frame::narrow_span`] of a span that meets more than [`CROWD`] boxes.
@@ -115,6 +111,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// `Cull::rows`): their spheres are those whose box crosses any of them.
     pub(super) fn start_rows(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
         cull.spheres.row.clear();
+        cull.spheres.sorted = false;
         // The rows the box and the tile share, none for an empty box (`j0 > j1`).
         let last = j + n.max(1) - 1;
         for (s, b) in self.tables.boxes.iter().enumerate() {
@@ -181,9 +178,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         Ok(())
     }
 }
-
-/// The most spheres a deep pile is sorted with (`Frame::sort_pile`): 8 KiB of keys on the stack.
-const PILE_SORT: usize = 1024;
 
 /// The most spheres' boxes a host's span should meet: a span that meets more is narrowed
 /// (`Frame::narrow_span`). Over many small spheres a tile of `SPAN` columns hits more spheres

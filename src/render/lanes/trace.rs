@@ -1,6 +1,6 @@
 //! A span's primary rays in lanes (`cfg(lanes)`): `scalar.rs`'s `trace_span`, four columns at
 //! a time, the same hits bit for bit, and the hit points of the span's bounds. A deep pile of
-//! spheres comes nearest first (`Frame::sort_pile`), and the loops here give an equal root to
+//! spheres comes nearest first (`Frame::sort_piles`), and the loops here give an equal root to
 //! the greater index, so that any order finds the brute-force hits.
 
 use super::*;
@@ -42,7 +42,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let points = self.shadow_rays.then_some((ps, os));
         let span = &cull.spheres.span;
         let at = (i0, i1, ox, y, row);
-        if span.len() > DEEP {
+        // A sorted tile's spans are out of scene order: the pile's tie rule for all of them.
+        if span.len() > DEEP || cull.spheres.sorted {
             self.trace_lanes::<PAD, true>([dx, dy, dz], ts, ss, points, span, at);
         } else {
             self.trace_lanes::<PAD, false>([dx, dy, dz], ts, ss, points, span, at);
@@ -56,10 +57,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// lanes past the span hold whatever they held, which only lanes that are not the span's
     /// read.
     ///
-    /// `PILE` (spans that meet more than [`DEEP`] boxes, a deep pile of spheres): a group of lanes skips a sphere whose
+    /// `PILE` (spans that meet more than [`DEEP`] boxes, a deep pile of spheres, and every span
+    /// of a tile sorted for one, `Cull::spheres.sorted`): a group of lanes skips a sphere whose
     /// every root lies beyond the lanes' closest hits so far, which the test would reject
     /// (a hit needs its root at or before them). In a pile of spheres most lie behind the
-    /// first few hits. The pile comes nearest first (`Frame::sort_pile`), so the row stops at
+    /// first few hits. The pile comes nearest first (`Frame::sort_piles`), so the row stops at
     /// the first sphere that every lane skips: the ones after it lie further still. Out of
     /// scene order, a root equal to a lane's closest is kept only from a sphere of a greater
     /// index: the closest hit of scene order, whose later spheres win ties.
@@ -78,8 +80,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         use crate::simd::F;
         let (mut t, mut sp) = ([f32::INFINITY; PAD], [SphereId::NONE; PAD]);
         let len = ts.len().min(SPAN);
-        // `Frame::sort_pile` ordered the pile nearest first.
-        let sorted = PILE && span.len() <= PILE_SORT;
+        // `Frame::sort_piles` ordered the pile nearest first.
+        let sorted = PILE;
         let lane = F::from(core::array::from_fn(|l| l as f32));
         // The longest direction's squared length (`PILE`).
         let mut dd = F::splat(0.0);
@@ -142,7 +144,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let hb = k.hearn_baker();
             // `pile_key` over `d_max`: at or below every root (see `nearest_root`), and in
             // the pile's order, as the division by one positive number keeps it.
-            let near = if PILE { pile_key(k) / d_max } else { 0.0 };
+            let near = if PILE {
+                self.tables.pile.get(sphere.index()).copied().unwrap_or(0.0) / d_max
+            } else {
+                0.0
+            };
             if PILE && sorted {
                 let last = t.get(..len).unwrap_or(&[]);
                 if last.iter().all(|&tl| near > tl) {
@@ -309,10 +315,10 @@ pub(in crate::render) fn nearest_root(k: &crate::Prepared, d_max: f32) -> f32 {
 }
 
 /// [`nearest_root`] of a direction of length 1, the order of a sorted pile
-/// ([`Frame::sort_pile`]): zero where the sphere's constants overflow, which the trace tests
-/// apart and must not pass by.
+/// ([`Frame::sort_piles`]; `FrameStorage` keeps it per sphere): zero where the sphere's
+/// constants overflow, which the trace tests apart and must not pass by.
 #[inline(always)]
-pub(super) fn pile_key(k: &crate::Prepared) -> f32 {
+pub(in crate::render) fn pile_key(k: &crate::Prepared) -> f32 {
     if crate::math::finite(k.c) {
         nearest_root(k, 1.0)
     } else {
