@@ -9,8 +9,8 @@ use super::*;
 /// its shadow candidates; and (above 48 spheres, for scenes with mirrors or glass) the
 /// hierarchy that culls secondary rays.
 ///
-/// Its size grows with the capacity `S × L` of the scene (about 0.8 MB at `Scene<1024, 32>`,
-/// 12.9 MB at `Scene<16384, 32>`, a few hundred bytes at `Scene<8, 2>`), so the caller chooses
+/// Its size grows with the capacity `S × L` of the scene (about 0.95 MB at `Scene<1024, 32>`,
+/// 15.1 MB at `Scene<16384, 32>`, a few hundred bytes at `Scene<8, 2>`), so the caller chooses
 /// where it lives: on the heap on a desktop ([`FrameStorage::on_heap`], each table boxed on
 /// its own; `Box::new(FrameStorage::new())` only where an unoptimised build may hold the
 /// whole storage on the stack first), in a `static` or on the stack of a microcontroller
@@ -161,7 +161,7 @@ impl<const S: usize, const L: usize> FrameStorage<S, L, Inline> {
 
 #[cfg(feature = "std")]
 impl<const S: usize, const L: usize> FrameStorage<S, L, Heap> {
-    /// Empty storage whose tables are each on the heap (about 12.9 MB at `<16384, 32>`, the
+    /// Empty storage whose tables are each on the heap (about 15.1 MB at `<16384, 32>`, the
     /// desktop capacity): the storage itself is a few pointers. An unoptimised build copies
     /// each empty table through the stack on its way into its box, one at a time (at most
     /// 0.4 MB at the desktop capacity), where `Box::new(FrameStorage::new())` builds the whole
