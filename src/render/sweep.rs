@@ -362,7 +362,8 @@ impl<const S: usize> Sweep<S> {
     fn passes<const DEPTH: bool>(&self, b: Band, k: f32, h: f32, k2: f32, d: f32) -> bool {
         // `&`, not `&&`: one branch on the outcome rather than three.
         let near = h + b.slack;
-        let ahead = !DEPTH || d <= b.far;
+        // Not beyond: a NaN depth (coordinates that overflow) keeps the entry.
+        let ahead = !DEPTH || !(d > b.far);
         (libm::fabsf(k - b.key) <= near) & (libm::fabsf(k2 - b.key2) <= near) & ahead
     }
 

@@ -213,18 +213,20 @@ mod slab_tests {
     use super::super::*;
     use std::boxed::Box;
 
-    /// A host's sweep of [`SLABS_FROM`] entries or more scans slabs sorted by the second key: the
-    /// spheres it names are those of the filter over every entry, for keys spread and clustered,
-    /// half-widths from zero to wide, and queries anywhere, on the filter's edge in either key, and
-    /// outside every key.
+    /// A sweep names the spheres of its filter over every entry, with and without the depth
+    /// filter: a host's sweep of [`SLABS_FROM`] entries or more scanning slabs sorted by the
+    /// second key, and a smaller one scanning four entries at a time, for keys spread and
+    /// clustered, half-widths from zero to wide, depths anywhere and some NaN (kept: not
+    /// beyond), and queries anywhere, on the filter's edge in either key, and outside every
+    /// key.
     #[test]
-    fn slabs_name_the_filtered_spheres() {
+    fn sweeps_name_the_filtered_spheres() {
         use crate::math::TestRng;
         let mut g = TestRng(0x51AB);
-        let mut named = 0usize;
-        for case in 0..6 {
-            let n = SLABS_FROM + [0, 1, 3000][case % 3];
-            let scale = [1.0, 1e-3][case / 3];
+        let (mut named, mut deep) = (0usize, 0usize);
+        for case in 0..9 {
+            let n = [SLABS_FROM, SLABS_FROM + 1, SLABS_FROM + 3000, 300, 37][case % 5];
+            let scale = [1.0, 1e-3][case % 2];
             let mut all: heapless::Vec<Entry, 8192> = heapless::Vec::new();
             for s in 0..n {
                 let (k, k2) = if s % 5 == 0 {
@@ -234,13 +236,19 @@ mod slab_tests {
                     (g.unit() * 2.0 - 1.0, g.unit() * 2.0 - 1.0)
                 };
                 let half = [0.0, 1e-4, 1e-3, 0.01][s % 4] * g.unit();
-                let _ = all.push(Entry::new(k * scale, half * scale, s, k2 * scale, 0.0));
+                let depth = if s % 7 == 0 {
+                    f32::NAN
+                } else {
+                    g.unit() * 2.0 - 1.0
+                };
+                let e = Entry::new(k * scale, half * scale, s, k2 * scale, depth * scale);
+                let _ = all.push(e);
             }
             let entries = all.clone();
             let mut w: Box<Sweep<8192>> = Box::new(Sweep::empty());
             w.hw_max = entries.iter().map(|e| e.half).fold(0.0, f32::max);
             w.arrange(&mut all);
-            assert!(w.slabs, "case {case}");
+            assert_eq!(w.slabs, n >= SLABS_FROM, "case {case}");
             for q in 0..3000 {
                 let slack = [0.0, 1e-5, 1e-3][q % 3] * scale;
                 let e = entries[(g.next() % n as u64) as usize];
@@ -255,30 +263,52 @@ mod slab_tests {
                         (g.unit() * 2.4 - 1.2) * scale,
                     ),
                 };
-                let mut got: heapless::Vec<usize, 8192> = heapless::Vec::new();
+                // On an entry's depth, or anywhere.
+                let far = if q % 2 == 0 {
+                    e.depth
+                } else {
+                    (g.unit() * 2.4 - 1.2) * scale
+                };
                 let band = Band {
                     key,
                     band: w.hw_max + slack,
                     slack,
                     key2,
-                    far: 0.0,
+                    far,
                 };
-                w.scan::<false>(band, &mut |s: SphereId| {
-                    let _ = got.push(s.index());
-                });
-                got.sort_unstable();
-                let want: heapless::Vec<usize, 8192> = (0..n)
-                    .filter(|&s| {
-                        let e = entries[s];
-                        let near = e.half + slack;
-                        (libm::fabsf(e.key - key) <= near) & (libm::fabsf(e.key2 - key2) <= near)
-                    })
-                    .collect();
-                assert_eq!(got, want, "case {case}, query {q}: ({key}, {key2})");
-                named += got.len();
+                let keys = |s: usize| {
+                    let e = entries[s];
+                    let near = e.half + slack;
+                    (libm::fabsf(e.key - key) <= near) & (libm::fabsf(e.key2 - key2) <= near)
+                };
+                for depth in [false, true] {
+                    let mut got: heapless::Vec<usize, 8192> = heapless::Vec::new();
+                    let mut push = |s: SphereId| {
+                        let _ = got.push(s.index());
+                    };
+                    if depth {
+                        w.scan::<true>(band, &mut push);
+                    } else {
+                        w.scan::<false>(band, &mut push);
+                    }
+                    got.sort_unstable();
+                    let want: heapless::Vec<usize, 8192> = (0..n)
+                        .filter(|&s| keys(s) && (!depth || !(entries[s].depth > far)))
+                        .collect();
+                    assert_eq!(got, want, "case {case}, query {q}: ({key}, {key2}, {far})");
+                    if depth {
+                        deep += got.len();
+                    } else {
+                        named += got.len();
+                    }
+                }
             }
         }
-        assert!(named > 10_000, "{named}");
+        // The depth filter names some spheres and drops others.
+        assert!(
+            named > 10_000 && deep > 5_000 && deep < named * 3 / 4,
+            "{named} {deep}"
+        );
     }
 }
 

@@ -319,8 +319,8 @@ impl<const S: usize> Sweep<S> {
         b: Band,
         consider: &mut impl FnMut(SphereId),
     ) -> Option<usize> {
-        use crate::simd::CmpLe;
         use crate::simd::{bits, ones, F};
+        use crate::simd::{CmpGt, CmpLe};
         fn from(v: &[f32], i: usize) -> &[f32] {
             v.get(i..).unwrap_or(&[])
         }
@@ -341,8 +341,9 @@ impl<const S: usize> Sweep<S> {
             let keep = within
                 & (k - F::splat(b.key)).abs().cmp_le(near)
                 & (k2 - F::splat(b.key2)).abs().cmp_le(near);
+            // Not beyond (`Sweep::passes`): a NaN depth keeps the entry.
             let keep = if DEPTH {
-                keep & d.cmp_le(F::splat(b.far))
+                keep & !d.cmp_gt(F::splat(b.far))
             } else {
                 keep
             };
