@@ -497,3 +497,75 @@ mod bvh_tests {
         assert!((1..=16).contains(&named), "{named} of 1024");
     }
 }
+
+#[cfg(test)]
+mod depth_tests {
+    use crate::math::{Color, Vec3};
+    use crate::shading::LightKind;
+    use crate::Light;
+
+    /// A sphere that meets a shadow ray from a point of the ball `(q, rho)` (its segment to a
+    /// point light, its ray towards a directional one) begins no farther along the light's rays
+    /// than the ball reaches: `near_depth ≤ far_depth`, the sweep's depth filter never drops a
+    /// blocker. Spheres touching the rays just inside their radius, at every scale and far
+    /// from the origin; and spheres behind the ball are dropped (a filter that drops nothing
+    /// would pass the first check alone).
+    #[test]
+    fn depth_filter_keeps_every_blocker() {
+        let mut g = crate::math::TestRng(0x1f83_d9ab_fb41_bd6b);
+        let (mut kept, mut behind, mut dropped) = (0u32, 0u32, 0u32);
+        for case in 0..40_000 {
+            let scale = [1e-3f32, 1.0, 1e3][case % 3];
+            let shift = if case % 5 == 0 {
+                Vec3::splat(1e4 * scale)
+            } else {
+                Vec3::ZERO
+            };
+            let (q, rho) = (shift + g.vec(8.0 * scale), g.unit() * scale);
+            let d = g.vec(1.0).normalized().unwrap_or(Vec3::new(0.0, -1.0, 0.0));
+            let light = if case % 2 == 0 {
+                Light::Point {
+                    position: shift + g.vec(16.0 * scale),
+                    intensity: Color::ONE,
+                }
+            } else {
+                Light::Directional {
+                    direction: d,
+                    intensity: Color::ONE,
+                }
+            };
+            // A point y of the ball, and a point x on its shadow ray.
+            let y = q + g.vec(1.0).normalized().unwrap_or(Vec3::ZERO) * (rho * g.unit());
+            let x = match light {
+                Light::Point { position, .. } => y + (position - y) * g.unit(),
+                Light::Directional { direction, .. } => y - direction * (8.0 * scale * g.unit()),
+            };
+            // A sphere through x, its centre up to 0.999 radii from it in any direction.
+            let r = scale * (0.01 + g.unit());
+            let side = g.vec(1.0).normalized().unwrap_or(Vec3::new(1.0, 0.0, 0.0));
+            let m = x + side * (0.999 * r * g.unit());
+            let (near, far) = (light.near_depth(m, r), light.far_depth(q, rho));
+            assert!(
+                near <= far,
+                "{light:?} ball {q:?} {rho} sphere {m:?} {r}: {near} > {far}"
+            );
+            kept += 1;
+            // The same sphere moved behind the ball, past its radius, the ball's and 1 %, and
+            // 10⁻³ of the coordinates' size (the pads grow with it).
+            let away = match light {
+                Light::Point { position, .. } => (q - position).normalized().unwrap_or(Vec3::ZERO),
+                Light::Directional { direction, .. } => direction,
+            };
+            let size = q.x.abs() + q.y.abs() + q.z.abs() + scale;
+            let back = q + away * ((r + rho) * 1.01 + 1e-3 * size * (1.0 + g.unit()));
+            if light.origin().is_none_or(|p| (q - p).length() > 2.0 * rho) {
+                behind += 1;
+                dropped += (light.near_depth(back, r) > far) as u32;
+            }
+        }
+        assert!(
+            kept == 40_000 && dropped == behind && behind > 30_000,
+            "{dropped} of {behind}"
+        );
+    }
+}
