@@ -258,9 +258,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                         for &s in &sweep.wide {
                             consider(s);
                         }
-                        // A NaN reach would drop every entry: then none is dropped.
+                        // The entries beyond the ball's reach dropped (none where it is NaN).
                         let far = light.far_depth(q, rho);
-                        let far = if far.is_nan() { f32::INFINITY } else { far };
                         sweep.scan::<true>(Band { far, ..band }, &mut consider);
                     }
                     None => {

@@ -90,7 +90,7 @@ pub(super) struct Band {
     pub(super) slack: f32,
     /// The ball's key along `Sweep::axis2`.
     pub(super) key2: f32,
-    /// How far along the light's rays the ball reaches ([`LightKind::band`]): an entry that
+    /// How far along the light's rays the ball reaches ([`LightKind::far_depth`]): an entry that
     /// begins beyond it lies behind the ball and blocks none of its shadow rays.
     pub(super) far: f32,
 }
