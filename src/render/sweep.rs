@@ -317,8 +317,9 @@ impl<const S: usize> Sweep<S> {
     }
 
     /// Calls `consider` with the sorted spheres, in their order, whose `|key_j − key| ≤
-    /// half_j + slack`, `|key2_j − key2| ≤ half_j + slack` and, with `DEPTH`, `depth_j ≤ far`
-    /// among those with `key_j` within `band` of `key` (see [`Sweep::band`]), and a few before
+    /// half_j + slack`, `|key2_j − key2| ≤ half_j + slack` and, with `DEPTH`, `depth_j` not
+    /// beyond `far`, among those with `key_j` within `band` of `key` (see [`Sweep::band`]),
+    /// and a few before
     /// them that pass the same test only by rounding (a candidate more, which the shadow test
     /// decides). `DEPTH` where the list serves many shadow rays (a span's group): the depth
     /// costs every scan a test per entry, which a single ray's list (a secondary hit's) does
@@ -418,10 +419,10 @@ impl<const S: usize> Sweep<S> {
     }
 
     /// For shadow rays from the ball `(q, rho)`: the [`Band`] where the spheres to consider
-    /// have `|key_j − key| ≤ half-width_j + slack` (so `key_j` within `band`), along `axis2`
-    /// `|key2_j − key2| ≤ half-width_j + slack`, and begin no farther along the light's rays
-    /// than the ball reaches; or `None` when the sweep does not apply (no axis, or the light
-    /// inside the ball).
+    /// have `|key_j − key| ≤ half-width_j + slack` (so `key_j` within `band`) and, along
+    /// `axis2`, `|key2_j − key2| ≤ half-width_j + slack`, with no depth bound (`far`
+    /// infinite: a scan with `DEPTH` is given the ball's reach, [`LightKind::far_depth`]); or
+    /// `None` when the sweep does not apply (no axis, or the light inside the ball).
     pub(super) fn band(&self, light: &Light, q: Vec3, rho: f32) -> Option<(&Self, Band)> {
         if self.axis == Vec3::ZERO {
             return None;
@@ -431,7 +432,6 @@ impl<const S: usize> Sweep<S> {
             return None;
         }
         let band = self.hw_max + slack;
-        // Only a scan with `DEPTH` reads it.
         let far = f32::INFINITY;
         Some((
             self,

@@ -27,8 +27,8 @@ pub(crate) struct Directional {
 /// and of the unit directions' components.
 const ANGLE_MARGIN: f32 = 1e-4;
 
-/// The relative pad of [`LightKind::near_depth`] and [`LightKind::far_depth`]: far above the rounding of a distance or a dot product (a few ε of
-/// it, or of `|m|₁`).
+/// The relative pad of [`LightKind::near_depth`] and [`LightKind::far_depth`]: far above the
+/// rounding of a distance or a dot product (a few ε of it, or of `|m|₁`).
 const DEPTH_PAD: f32 = 1e-5;
 
 /// The sum of the absolute coordinates, `|w|₁ ≥ |w|`: a pad without a square root.
