@@ -135,10 +135,9 @@ fn far_offset<P: Ieee3>(d: P, t: P::S, f: P, w: P, h2: impl FnOnce(P) -> P::S) -
 }
 
 /// [`hit_point_far`] of four rays from one origin (`f` their common `o − m`, as for primary
-/// rays) with directions `d` and parameters `t`: [`far_offset`] in lanes, so each lane is the
-/// scalar `Some((point, offset))`, bit for bit; `None` where a lane is not finite (the
-/// scalar call then falls back for it). For hosts, where many small far spheres make this path
-/// warm.
+/// rays) with directions `d` and parameters `t`: [`hit_point_far_lanes`] with `f` and the
+/// sphere in every lane; `None` where a lane is not finite (the scalar call then falls back for
+/// it). For hosts, where many small far spheres make this path warm.
 #[cfg(lanes)]
 #[inline(always)]
 pub(crate) fn hit_point_far4(
@@ -147,16 +146,37 @@ pub(crate) fn hit_point_far4(
     f: Vec3,
     sphere: &Sphere,
 ) -> Option<(crate::simd::V, crate::simd::V)> {
+    use crate::simd::{F, V};
+    let (point, offset, finite) = hit_point_far_lanes(
+        d,
+        t,
+        V::splat(f),
+        V::splat(sphere.center),
+        F::splat(sphere.radius),
+    );
+    (finite == 0b1111).then_some((point, offset))
+}
+
+/// [`hit_point_far`] lane by lane, each lane its own ray (`f`, `d`, `t`) and sphere (`center`,
+/// `radius`): [`far_offset`] in lanes, so a lane whose bit is set in the returned mask is the
+/// scalar `Some((point, offset))`, bit for bit, and a lane whose bit is clear the scalar `None`.
+#[cfg(lanes)]
+#[inline(always)]
+pub(crate) fn hit_point_far_lanes(
+    d: crate::simd::V,
+    t: crate::simd::F,
+    f: crate::simd::V,
+    center: crate::simd::V,
+    radius: crate::simd::F,
+) -> (crate::simd::V, crate::simd::V, u32) {
     use crate::simd::{neg, F, V};
-    let fv = V::splat(f);
     let w = V {
-        x: product_difference_of(fv.y, d.z, fv.z, d.y),
-        y: product_difference_of(fv.z, d.x, fv.x, d.z),
-        z: product_difference_of(fv.x, d.y, fv.y, d.x),
+        x: product_difference_of(f.y, d.z, f.z, d.y),
+        y: product_difference_of(f.z, d.x, f.x, d.z),
+        z: product_difference_of(f.x, d.y, f.y, d.x),
     };
     let zero = F::splat(0.0);
-    let radius = F::splat(sphere.radius);
-    let offset = far_offset(d, t, fv, w, |l| {
+    let offset = far_offset(d, t, f, w, |l| {
         neg(c_near_of::<F, true>(
             [l.x, l.y, l.z],
             [zero; 3],
@@ -164,8 +184,8 @@ pub(crate) fn hit_point_far4(
             radius,
         ))
     });
-    let point = V::splat(sphere.center).add(offset);
-    (offset.finite() & point.finite() == 0b1111).then_some((point, offset))
+    let point = center.add(offset);
+    (point, offset, offset.finite() & point.finite())
 }
 
 /// `a·b − c·e` from the exact products: exact or nearly where the two agree in most bits.

@@ -235,6 +235,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 (*p, *o) = hit_point_near(&ray, t[m], k.f, sphere, self.offset_near(s));
             }
         };
+        let (mut queue, mut queued) = ([0usize; LANES], 0);
         let len = ps.len().min(os.len());
         let mut m = 0;
         while m < len {
@@ -268,8 +269,20 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             if !near {
                 let end = if whole { m + LANES } else { m + 1 };
                 for (q, &sq) in sp.iter().enumerate().take(end.min(len)).skip(m) {
-                    if sq != SphereId::NONE {
+                    if sq == SphereId::NONE {
+                        continue;
+                    }
+                    if self.offset_near(sq.index()) {
                         one(q, ps, os);
+                        continue;
+                    }
+                    if let Some(slot) = queue.get_mut(queued) {
+                        *slot = q;
+                        queued += 1;
+                    }
+                    if queued == LANES {
+                        self.far_points_lanes(queue, LANES, (ps, os), (dx, dy, dz), t, sp);
+                        queued = 0;
                     }
                 }
                 m = end;
@@ -293,6 +306,65 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
             }
             m += LANES;
+        }
+        if queued > 0 {
+            self.far_points_lanes(queue, queued, (ps, os), (dx, dy, dz), t, sp);
+        }
+    }
+
+    /// The points and offsets of far hits of several spheres, the slots `q[..n]`, four a pass
+    /// ([`hit_point_far_lanes`]), each lane its own sphere: the slots of a span's small far
+    /// spheres seldom come four to a sphere. Lanes past `n` repeat the first, computed and not
+    /// stored; a lane left out takes the scalar call. Out of line: the span's hot loop stays
+    /// as small as it was.
+    #[inline(never)]
+    fn far_points_lanes<const PAD: usize>(
+        &self,
+        q: [usize; crate::geometry::LANES],
+        n: usize,
+        (ps, os): (&mut [Vec3], &mut [Vec3]),
+        (dx, dy, dz): (&[f32; PAD], &[f32; PAD], &[f32; PAD]),
+        t: &[f32; PAD],
+        sp: &[SphereId; PAD],
+    ) {
+        use crate::geometry::{hit_point_far_lanes, LANES};
+        use crate::simd::{F, V};
+        let spheres = self.scene.spheres();
+        let at = |l: usize| q[if l < n { l } else { 0 }];
+        let lane = |l: usize| {
+            let m = at(l);
+            let s = sp.get(m).map_or(usize::MAX, |s| s.index());
+            let k = self.tables.eye.get(s).zip(spheres.get(s));
+            (m, k)
+        };
+        let lanes: [_; LANES] = core::array::from_fn(lane);
+        let of = |l: usize| {
+            let (m, k) = lanes[l];
+            let d = Vec3::new(dx[m], dy[m], dz[m]);
+            match k {
+                Some((k, sphere)) => (d, t[m], k.f, sphere.center, sphere.radius),
+                None => (d, t[m], Vec3::ZERO, Vec3::ZERO, 1.0),
+            }
+        };
+        let ls: [_; LANES] = core::array::from_fn(of);
+        let (p, o, finite) = hit_point_far_lanes(
+            V::from_lanes(ls.map(|l| l.0)),
+            F::from(ls.map(|l| l.1)),
+            V::from_lanes(ls.map(|l| l.2)),
+            V::from_lanes(ls.map(|l| l.3)),
+            F::from(ls.map(|l| l.4)),
+        );
+        for (l, &(m, k)) in lanes.iter().enumerate().take(n) {
+            let (Some((k, sphere)), Some(pp), Some(oo)) = (k, ps.get_mut(m), os.get_mut(m)) else {
+                continue;
+            };
+            (*pp, *oo) = if finite & (1 << l) != 0 {
+                (p.lane(l), o.lane(l))
+            } else {
+                // `hit_point_far`'s fallback.
+                let ray = Ray::new(self.camera.eye(), Vec3::new(dx[m], dy[m], dz[m]));
+                hit_point_near(&ray, t[m], k.f, sphere, false)
+            };
         }
     }
 }
