@@ -255,12 +255,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 match band {
                     // Only the spheres whose key is near the span's, and the wide ones.
                     Some((sweep, band)) => {
-                        for &s in &sweep.wide {
-                            consider(s);
-                        }
                         // The entries beyond the ball's reach dropped (none where it is NaN).
                         let far = light.far_depth(q, rho);
-                        sweep.scan::<true>(Band { far, ..band }, &mut consider);
+                        sweep.each::<true>(Band { far, ..band }, &mut consider);
                     }
                     None => {
                         for s in 0..spheres.len() {

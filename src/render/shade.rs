@@ -157,10 +157,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 .is_some_and(|b| light.may_block(b.center, b.radius, q, rho));
             full |= keep && list.push(s).is_err();
         };
-        for &s in &sweep.wide {
-            consider(s);
-        }
-        sweep.scan::<false>(band, &mut consider);
+        sweep.each::<false>(band, &mut consider);
         (!full).then_some(list)
     }
 

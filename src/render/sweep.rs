@@ -316,6 +316,16 @@ impl<const S: usize> Sweep<S> {
         }
     }
 
+    /// Calls `consider` with every sphere that a shadow ray from within the band can meet: the
+    /// wide ones, then those of [`Sweep::scan`].
+    #[inline(always)]
+    pub(super) fn each<const DEPTH: bool>(&self, b: Band, consider: &mut impl FnMut(SphereId)) {
+        for &s in &self.wide {
+            consider(s);
+        }
+        self.scan::<DEPTH>(b, consider);
+    }
+
     /// Calls `consider` with the sorted spheres, in their order, whose `|key_j − key| ≤
     /// half_j + slack`, `|key2_j − key2| ≤ half_j + slack` and, with `DEPTH`, `depth_j` not
     /// beyond `far`, among those with `key_j` within `band` of `key` (see [`Sweep::band`]),

@@ -80,8 +80,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         use crate::simd::F;
         let (mut t, mut sp) = ([f32::INFINITY; PAD], [SphereId::NONE; PAD]);
         let len = ts.len().min(SPAN);
-        // `Frame::sort_piles` ordered the pile nearest first.
-        let sorted = PILE;
         let lane = F::from(core::array::from_fn(|l| l as f32));
         // The longest direction's squared length (`PILE`).
         let mut dd = F::splat(0.0);
@@ -149,7 +147,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             } else {
                 0.0
             };
-            if PILE && sorted {
+            // `Frame::sort_piles` ordered the pile nearest first.
+            if PILE {
                 let last = t.get(..len).unwrap_or(&[]);
                 if last.iter().all(|&tl| near > tl) {
                     break;
