@@ -36,6 +36,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     pub(super) fn fill_span(&self, j: u32, cull: &mut Cull<S, L>) {
         cull.hits.path.done = 0;
         if cull.hits.kept == Kept::Pixels {
+            // At the tile's first row (`j`): in a crowded tile, every row's mixed groups.
+            if cull.hits.path.base == 0 {
+                self.start_mixed(j, cull);
+            }
             self.shade_span4(cull);
         }
         let len = cull.span_len();
@@ -219,6 +223,14 @@ pub(super) struct PathState {
     /// the rest.
     pub(super) done: u32,
     pub(super) px: [Rgb888; SPAN],
+    /// The colours of the tile's pixels in groups of four not all on one sphere, shaded
+    /// sphere by sphere across the tile's rows (`Frame::shade_mixed`), by slot, and per row
+    /// which of its pixels they hold.
+    pub(super) mixed_px: [Rgb888; SPAN * KEPT],
+    pub(super) mixed_done: [u32; KEPT],
+    /// Whether the tile's first row shaded every row's mixed groups (a crowded tile), or each
+    /// row shades its own.
+    pub(super) tiled: bool,
     /// The rows a span gathers at once (`Frame::tile_rows`: up to `KEPT`), row `r`'s hits in
     /// slots `r·SPAN + k`, and the first slot of the row being shaded.
     pub(super) rows: u32,
@@ -231,6 +243,9 @@ impl PathState {
             hit_dc: [[0.0; DPAD]; 3],
             done: 0,
             px: [Rgb888::new(0, 0, 0); SPAN],
+            mixed_px: [Rgb888::new(0, 0, 0); SPAN * KEPT],
+            mixed_done: [0; KEPT],
+            tiled: false,
             rows: 1,
             base: 0,
         }

@@ -7,7 +7,8 @@ use super::*;
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Shades the span's stored primary hits on spheres that send no secondary ray, four at a
     /// time in lanes ([`shade_model`](crate::shading)): four neighbours on one sphere in one
-    /// pass, the other groups of four sphere by sphere ([`Frame::shade_mixed`]). Into
+    /// pass; the other groups of four were shaded sphere by sphere at the tile's first row
+    /// ([`Frame::shade_mixed`]), and their colours are taken from there. Into
     /// `cull.hits.path.px`, marking them in `cull.hits.path.done`: the pixels `next_pixel`
     /// would compute one by one, bit for bit (the hit records built lane by lane as `make_hit`
     /// builds them, the shadow tests the scalar ones, asked for the same lanes and lights).
@@ -59,7 +60,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             }
         }
         if mixed != 0 {
-            self.shade_mixed(cull, mixed, &mut px, &mut done);
+            self.mixed_row(mixed, &mut px, &mut done, cull);
         }
         cull.hits.path.px = px;
         cull.hits.path.done = done;
@@ -68,20 +69,27 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
     }
 
-    /// [`Frame::shade_span4`]'s hits in groups of four neighbours not all on one sphere (the
-    /// span's pixels `todo`), sphere by sphere: four of a sphere's pixels at a time in the
-    /// span's order, neighbours or not, in one lane pass. Where spheres are small, most groups
-    /// of four neighbours meet two or three, and a pass per sphere in each group shaded few
-    /// lanes. Out of line, so that the common group's code keeps its values in registers.
+    /// The colours of the row's pixels `mixed` (bits of the span), in groups of four not all on
+    /// one sphere, into `px`, marking them `done`: shaded at the tile's first row where it is
+    /// crowded ([`Frame::start_mixed`]), else now, sphere by sphere along the row. Out of line,
+    /// so that the common group's code keeps its values in registers.
     #[inline(never)]
-    fn shade_mixed(
-        &self,
-        cull: &Cull<S, L>,
-        mut todo: u32,
-        px: &mut [Rgb888; SPAN],
-        done: &mut u32,
-    ) {
+    fn mixed_row(&self, mixed: u32, px: &mut [Rgb888; SPAN], done: &mut u32, cull: &Cull<S, L>) {
         let base = cull.slot(0);
+        if cull.hits.path.tiled {
+            let path = &cull.hits.path;
+            let shaded = mixed & path.mixed_done.get(base / SPAN).copied().unwrap_or(0);
+            let from = path.mixed_px.get(base..).unwrap_or(&[]);
+            for k in crate::simd::ones(shaded) {
+                if let (Some(p), Some(&c)) = (px.get_mut(k), from.get(k)) {
+                    *p = c;
+                }
+            }
+            *done |= shaded;
+            return;
+        }
+        // Sphere by sphere along the row: four of a sphere's pixels a pass, neighbours first.
+        let mut todo = mixed;
         let ss = cull.hits.s.get(base..base + cull.span_len()).unwrap_or(&[]);
         while let Some(&s) = ss.get(todo.trailing_zeros() as usize) {
             let (pixels, n) = same_sphere(ss, todo, s);
@@ -94,6 +102,107 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             };
             let colour = self.shade4::<false, false>(cull, stored, s.index(), active);
             keep4(self, px, done, pixels, active, colour);
+        }
+    }
+
+    /// At a tile's first row (`j`): no mixed group shaded yet, and in a crowded tile (a span
+    /// that meets more than [`TILED`] spheres' boxes) every row's shaded now, sphere by sphere
+    /// across the rows ([`Frame::shade_mixed`]). Elsewhere each row shades its own: there a
+    /// sphere shows long runs of pixels, and classing every row's groups twice costs more than
+    /// the passes it saves.
+    #[inline(always)]
+    pub(super) fn start_mixed(&self, j: u32, cull: &mut Cull<S, L>) {
+        let path = &mut cull.hits.path;
+        path.mixed_done = [0; KEPT];
+        path.tiled = cull.spheres.span.len() > TILED;
+        if !path.tiled {
+            return;
+        }
+        let (len, rows) = (cull.span_len(), (cull.rows() as usize).min(KEPT));
+        let mut todo = [0u32; KEPT];
+        for (r, t) in todo.iter_mut().enumerate().take(rows) {
+            *t = mixed_groups(cull.hits.s.get(r * SPAN..r * SPAN + len).unwrap_or(&[]));
+        }
+        self.shade_mixed(j, todo, cull);
+    }
+
+    /// The tile's pixels `todo` (per row, bits of the span; the tile's first row is `j`), in
+    /// groups of four neighbours not all on one sphere, those that [`Frame::shade_span4`]
+    /// leaves, sphere by sphere: four of a sphere's pixels at a time, in one lane pass,
+    /// neighbours or not and from any of the tile's rows, into `cull.hits.path.mixed_px`,
+    /// marked in `mixed_done`. Where spheres are small, most groups of four neighbours meet two
+    /// or three, and a sphere shows a few pixels in each of a few rows: a pass per sphere in
+    /// each group, or in each row, shaded few lanes (spread16384: 2.3 lanes a pass by rows, 3.3
+    /// across them).
+    #[inline(never)]
+    pub(super) fn shade_mixed(&self, j: u32, mut todo: [u32; KEPT], cull: &mut Cull<S, L>) {
+        let (rows, i0) = ((cull.rows() as usize).min(KEPT), cull.span_start);
+        // Every pixel of one sphere, by slot, four to a pass: a sphere's pixels lie in its
+        // box, so only the box's columns of its rows are searched, once per sphere.
+        let mut mine = [0u16; SPAN * KEPT];
+        let mut r0 = 0;
+        while r0 < rows {
+            let Some(&first) = todo.get(r0) else { break };
+            if first == 0 {
+                r0 += 1;
+                continue;
+            }
+            let slot0 = r0 * SPAN + first.trailing_zeros() as usize;
+            let Some(&s) = cull.hits.s.get(slot0) else {
+                break;
+            };
+            let (cols, last) = match self.tables.boxes.get(s.index()) {
+                Some(b) => {
+                    let lo = (b.i0 as u32).saturating_sub(i0).min(31);
+                    let hi = (b.i1 as u32).saturating_sub(i0).min(31);
+                    let cols = (u32::MAX >> (31 - hi)) & (u32::MAX << lo);
+                    let last = (b.j1 as u32).saturating_sub(j) as usize;
+                    (cols, last.min(rows - 1))
+                }
+                None => (u32::MAX, rows - 1),
+            };
+            // The first pixel at least, whatever the box says.
+            let mut n = 0;
+            for r in r0..=last.max(r0) {
+                let Some(t) = todo.get_mut(r) else { break };
+                let mask = if r == r0 {
+                    cols | first & first.wrapping_neg()
+                } else {
+                    cols
+                };
+                for k in crate::simd::ones(*t & mask) {
+                    let q = r * SPAN + k;
+                    if cull.hits.s.get(q) == Some(&s) {
+                        *t &= !(1 << k);
+                        if let Some(m) = mine.get_mut(n) {
+                            *m = q as u16;
+                            n += 1;
+                        }
+                    }
+                }
+            }
+            for four in mine.get(..n).unwrap_or(&[]).chunks(4) {
+                let slots: [usize; 4] =
+                    core::array::from_fn(|l| usize::from(four.get(l).copied().unwrap_or(four[0])));
+                let active = (1 << four.len()) - 1;
+                let Some(stored) = stored4(cull, slots) else {
+                    continue;
+                };
+                let Some(colour) = self.shade4::<false, false>(cull, stored, s.index(), active)
+                else {
+                    continue;
+                };
+                let path = &mut cull.hits.path;
+                for (&c, &q) in self.encode4(&colour).iter().zip(four) {
+                    let q = usize::from(q);
+                    if let (Some(p), Some(d)) =
+                        (path.mixed_px.get_mut(q), path.mixed_done.get_mut(q / SPAN))
+                    {
+                        *p = c;
+                        *d |= 1 << (q % SPAN);
+                    }
+                }
+            }
         }
     }
 
@@ -311,6 +420,27 @@ pub(super) fn keep4<const S: usize, const L: usize>(
             }
         }
     }
+}
+
+/// The spheres' boxes above which a span's tile shades its mixed groups at its first row
+/// (`Frame::start_mixed`).
+const TILED: usize = 4;
+
+/// The pixels of a row's hits `ss` (by pixel) in groups of four neighbours (`0..4`, `4..8`, …,
+/// whole groups only) not all on one sphere, but for misses: those that [`Frame::shade_span4`]
+/// does not shade four at a time, as bits of the row.
+#[inline(always)]
+fn mixed_groups(ss: &[SphereId]) -> u32 {
+    let mut mixed = 0;
+    for (g, four) in ss.chunks_exact(4).enumerate() {
+        let [a, b, c, d] = [four[0], four[1], four[2], four[3]];
+        if a == b && a == c && a == d && a != SphereId::NONE {
+            continue;
+        }
+        let hit = |x: SphereId, l: u32| u32::from(x != SphereId::NONE) << l;
+        mixed |= (hit(a, 0) | hit(b, 1) | hit(c, 2) | hit(d, 3)) << (4 * g);
+    }
+    mixed
 }
 
 /// The first four pixels of `todo` (bits of the span) whose hit is on `s` (`ss` by pixel), in
