@@ -312,10 +312,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     }
 
     /// The points and offsets of far hits of several spheres, the slots `q[..n]`, four a pass
-    /// ([`hit_point_far_lanes`]), each lane its own sphere: the slots of a span's small far
-    /// spheres seldom come four to a sphere. Lanes past `n` repeat the first, computed and not
-    /// stored; a lane left out takes the scalar call. Out of line: the span's hot loop stays
-    /// as small as it was.
+    /// ([`hit_point_far_lanes`](crate::geometry::hit_point_far_lanes)), each lane its own
+    /// sphere: the slots of a span's small far spheres seldom come four to a sphere. Lanes past
+    /// `n` repeat the first, computed and not stored; a lane left out takes the scalar call.
+    /// Out of line: the span's hot loop stays as small as it was.
     #[inline(never)]
     fn far_points_lanes<const PAD: usize>(
         &self,
