@@ -115,7 +115,29 @@ pub(super) fn c_near_across<const OFFSET: bool>(
     big + small
 }
 
+/// [`c_near_of`] of a point `base` from a sphere about the origin, with no offset (`m` and
+/// `offset` zero): `|base|² − r²` compensated, for the far hit points in lanes
+/// (`hit_point_far_lanes`). For a finite `base` the two sums with zero there only copy each
+/// coordinate (and its error term is zero), so they are left out: the same value but for the
+/// sign of a zero, which its caller only compares with zero; a coordinate whose square
+/// overflows makes both NaN. `c_origin_is_c_near` pins it down.
+#[cfg(lanes)]
+#[inline(always)]
+pub(super) fn c_origin_of<T: Ieee>(base: [T; 3], radius: T) -> T {
+    let (pr, er) = two_square_of(radius);
+    let (mut big, mut small) = (pr.flip(), er.flip());
+    for h in base {
+        let (p, ep) = two_square_of(h);
+        let (sum, t) = two_sum_of(big, p);
+        big = sum;
+        small = small + (t + ep);
+    }
+    big + small
+}
+
 /// [`c_near_xyz`]'s operations on any [`Ieee`] type (one f32, or four lanes on hosts).
+/// Hosts compute it across lanes (`c_near_across`), and their tests compare the two.
+#[cfg_attr(all(lanes, not(test)), allow(dead_code))]
 #[inline(always)]
 pub(super) fn c_near_of<T: Ieee, const OFFSET: bool>(
     base: [T; 3],

@@ -169,21 +169,13 @@ pub(crate) fn hit_point_far_lanes(
     center: crate::simd::V,
     radius: crate::simd::F,
 ) -> (crate::simd::V, crate::simd::V, u32) {
-    use crate::simd::{neg, F, V};
+    use crate::simd::{neg, V};
     let w = V {
         x: product_difference_of(f.y, d.z, f.z, d.y),
         y: product_difference_of(f.z, d.x, f.x, d.z),
         z: product_difference_of(f.x, d.y, f.y, d.x),
     };
-    let zero = F::splat(0.0);
-    let offset = far_offset(d, t, f, w, |l| {
-        neg(c_near_of::<F, true>(
-            [l.x, l.y, l.z],
-            [zero; 3],
-            [zero; 3],
-            radius,
-        ))
-    });
+    let offset = far_offset(d, t, f, w, |l| neg(c_origin_of([l.x, l.y, l.z], radius)));
     let point = center.add(offset);
     (point, offset, offset.finite() & point.finite())
 }

@@ -551,6 +551,48 @@ mod lane_tests {
         assert!(lanes > 20_000, "{lanes} lanes within √3 radii");
     }
 
+    /// `c_origin_of` is `c_near_of` with `m` and the offset zero: the same bits, or both zero
+    /// (of either sign), or both NaN, for coordinates and radii from subnormal to overflowing
+    /// squares, zeros of both signs among them.
+    #[test]
+    fn c_origin_is_c_near() {
+        let mut g = TestRng(0x2545_f491_4f6c_dd1d);
+        let (mut same, mut zeros) = (0u32, 0u32);
+        for case in 0..200_000u32 {
+            let pick = |g: &mut TestRng| match g.next() % 8 {
+                0 => 0.0,
+                1 => -0.0,
+                2 => g.mag(-45, -37),
+                3 => g.mag(17, 38),
+                _ => g.mag(-8, 8),
+            };
+            let b = [pick(&mut g), pick(&mut g), pick(&mut g)];
+            let r = if case % 4 == 0 {
+                pick(&mut g).abs()
+            } else {
+                g.mag(-4, 4).abs()
+            };
+            let (got, want) = (
+                c_origin_of(b, r),
+                c_near_of::<f32, true>(b, [0.0; 3], [0.0; 3], r),
+            );
+            if got.to_bits() == want.to_bits() {
+                same += 1;
+            } else if got == 0.0 && want == 0.0 {
+                zeros += 1;
+            } else {
+                assert!(
+                    got.is_nan() && want.is_nan(),
+                    "case {case}: {b:?}, r {r}: {got} and {want}"
+                );
+            }
+        }
+        assert!(
+            same > 190_000,
+            "{same} the same bits, {zeros} zeros of other signs"
+        );
+    }
+
     /// `hit_point_far4` and `hit_point_far_lanes` are `hit_point_far` lane by lane, bit for
     /// bit: rays from origins 30 … 10⁵ radii from spheres of radius 10⁻⁴ … 10², centres up to
     /// 10⁴ away from the origin of coordinates, hitting near the rim and the middle, both
