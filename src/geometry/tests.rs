@@ -661,25 +661,20 @@ mod lane_tests {
                 F::from(lanes.map(|(s, _, _)| s.radius)),
             );
             for l in 0..4 {
-                let at = || {
-                    std::format!(
-                        "case {case} lane {l}: {:?} along {:?} t {}",
-                        lanes[l],
-                        ds[l],
-                        ts[l]
-                    )
-                };
+                let (lane, d, t) = (lanes[l], ds[l], ts[l]);
                 match scalar[l] {
                     Some((sp, so)) => {
-                        assert!(finite & (1 << l) != 0, "{}", at());
+                        assert!(
+                            finite & (1 << l) != 0,
+                            "case {case} lane {l}: {lane:?} {d:?} {t}"
+                        );
                         assert_eq!(
                             (bits(p.lane(l)), bits(o.lane(l))),
                             (bits(sp), bits(so)),
-                            "{}",
-                            at()
+                            "case {case} lane {l}: {lane:?} along {d:?} t {t}"
                         );
                     }
-                    None => assert!(finite & (1 << l) == 0, "{}", at()),
+                    None => assert!(finite & (1 << l) == 0, "case {case} lane {l}: {lane:?}"),
                 }
             }
             if shared {
