@@ -273,7 +273,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     // Where lists can be long (a capacity of 8 or less links none of it).
                     if let Some(list) = cull.shadow.pool.get_mut(start as usize..) {
                         if Self::SWEEPS && list.len() > LONG {
-                            nearest_first(list, spheres, q);
+                            nearest_first(list, spheres, q, light);
                         }
                     }
                     *range = Candidates::listed(start, cull.shadow.pool.len() as u16);
@@ -431,17 +431,31 @@ impl Bounds {
     }
 }
 
-/// Moves the [`NEAREST`] of a group's shadow candidates nearest to the group's centre `q` to
-/// the front of its list (a selection, not a sort), so that a shadowed pixel meets its blocker
-/// early: a lit pixel asks every candidate, in any order, a shadowed one stops at the first
-/// that blocks, and a near sphere hides more of the sky. The keys are computed once where the
-/// list fits [`KEYED`], else at each comparison.
+/// Moves the [`NEAREST`] of a group's shadow candidates that lie nearest the shadow ray from the
+/// group's centre `q` to `light` to the front of its list (a selection, not a sort), so that a
+/// shadowed pixel meets its blocker early: a lit pixel asks every candidate, in any order, a
+/// shadowed one stops at the first that blocks. The key is `perp² − r²`, `perp` the distance
+/// of the sphere's centre from that ray's line (`|v|² − (v·u)²`, `v` from `q` to the centre,
+/// `u` the unit direction to the light): negative for a sphere across the line, which blocks
+/// the group's central ray, and the spheres nearest it block its other rays likeliest. The
+/// keys are computed once where the list fits [`KEYED`], else at each comparison.
 #[inline(never)]
-pub(super) fn nearest_first(list: &mut [SphereId], spheres: &[crate::Sphere], q: Vec3) {
+pub(super) fn nearest_first(
+    list: &mut [SphereId],
+    spheres: &[crate::Sphere],
+    q: Vec3,
+    light: &Light,
+) {
+    let u = match *light {
+        Light::Point { position, .. } => (position - q).normalized(),
+        Light::Directional { direction, .. } => (-direction).normalized(),
+    }
+    .unwrap_or(Vec3::ZERO);
     let d2 = |s: &SphereId| {
         spheres.get(s.index()).map_or(0.0, |b| {
             let v = b.center - q;
-            v.dot(v)
+            let along = v.dot(u);
+            v.dot(v) - along * along - b.radius * b.radius
         })
     };
     if list.len() <= NEAREST {

@@ -108,31 +108,52 @@ mod nearest_tests {
     use super::super::*;
     use crate::Sphere;
 
-    /// `nearest_first` keeps a list's spheres (a permutation) and puts the `NEAREST` nearest to
-    /// the point first, for lists with keys kept on the stack and longer ones, with ties and
-    /// indices that name no sphere (distance 0).
+    /// `nearest_first` keeps a list's spheres (a permutation) and puts first the `NEAREST` that
+    /// lie nearest the shadow ray from the point to the light (the least `perp² − r²`, `perp`
+    /// the centre's distance from the ray's line), for both kinds of light, for lists with keys
+    /// kept on the stack and longer ones, with ties and indices that name no sphere (key 0).
     #[test]
     fn nearest_candidates_come_first() {
         let mut g = crate::math::TestRng(0x0dd_ba11);
         let spheres: [Sphere; 64] = core::array::from_fn(|k| {
             // Every other sphere repeats the previous one's centre: ties.
             let c = g.vec(10.0);
-            Sphere::new(if k % 2 == 1 { Vec3::ZERO } else { c }, 0.5)
+            Sphere::new(if k % 2 == 1 { Vec3::ZERO } else { c }, 0.25 + g.unit())
         });
         let q = g.vec(4.0);
-        let d2 = |s: SphereId| {
-            spheres.get(s.index()).map_or(0.0, |b| {
-                let v = b.center - q;
-                v.dot(v)
-            })
-        };
-        for len in [NEAREST + 1, 40, KEYED, KEYED + 300] {
+        for (case, len) in [NEAREST + 1, 40, KEYED, KEYED + 300]
+            .into_iter()
+            .enumerate()
+        {
+            let (light, u) = if case % 2 == 0 {
+                let position = g.vec(20.0);
+                let light = Light::Point {
+                    position,
+                    intensity: crate::Color::ONE,
+                };
+                (light, (position - q).normalized().unwrap_or(Vec3::ZERO))
+            } else {
+                let direction = g.vec(1.0);
+                let light = Light::Directional {
+                    direction,
+                    intensity: crate::Color::ONE,
+                };
+                (light, (-direction).normalized().unwrap_or(Vec3::ZERO))
+            };
+            // The key: the squared distance from the line, less the square of r.
+            let d2 = |s: SphereId| {
+                spheres.get(s.index()).map_or(0.0, |b| {
+                    let v = b.center - q;
+                    let along = v.dot(u);
+                    v.dot(v) - along * along - b.radius * b.radius
+                })
+            };
             // Up to 70 ids: the last six name no sphere.
             let mut list: heapless::Vec<SphereId, 1400> = (0..len)
                 .map(|_| SphereId::new((g.next() % 70) as usize))
                 .collect();
             let mut before: heapless::Vec<usize, 1400> = list.iter().map(|s| s.index()).collect();
-            nearest_first(&mut list, &spheres, q);
+            nearest_first(&mut list, &spheres, q, &light);
             let mut after: heapless::Vec<usize, 1400> = list.iter().map(|s| s.index()).collect();
             let (front, rest) = list.split_at(NEAREST);
             let far = front.iter().map(|&s| d2(s)).fold(f32::MIN, f32::max);
