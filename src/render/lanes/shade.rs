@@ -7,8 +7,8 @@ use super::*;
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// Shades the span's stored primary hits on spheres that send no secondary ray, four at a
     /// time in lanes ([`shade_model`](crate::shading)): four neighbours on one sphere in one
-    /// pass; the other groups of four were shaded sphere by sphere at the tile's first row
-    /// ([`Frame::shade_mixed`]), and their colours are taken from there. Into
+    /// pass, the other groups of four sphere by sphere ([`Frame::mixed_row`]: at the tile's
+    /// first row where the tile is crowded, else now). Into
     /// `cull.hits.path.px`, marking them in `cull.hits.path.done`: the pixels `next_pixel`
     /// would compute one by one, bit for bit (the hit records built lane by lane as `make_hit`
     /// builds them, the shadow tests the scalar ones, asked for the same lanes and lights).
@@ -166,7 +166,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             for r in r0..=last.max(r0) {
                 let Some(t) = todo.get_mut(r) else { break };
                 let mask = if r == r0 {
-                    cols | first & first.wrapping_neg()
+                    cols | (first & first.wrapping_neg())
                 } else {
                     cols
                 };
@@ -182,8 +182,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
             }
             for four in mine.get(..n).unwrap_or(&[]).chunks(4) {
+                // Lanes past the sphere's last pixel repeat its first.
+                let first = four.first().copied().unwrap_or(0);
                 let slots: [usize; 4] =
-                    core::array::from_fn(|l| usize::from(four.get(l).copied().unwrap_or(four[0])));
+                    core::array::from_fn(|l| usize::from(four.get(l).copied().unwrap_or(first)));
                 let active = (1 << four.len()) - 1;
                 let Some(stored) = stored4(cull, slots) else {
                     continue;
@@ -433,7 +435,7 @@ const TILED: usize = 4;
 fn mixed_groups(ss: &[SphereId]) -> u32 {
     let mut mixed = 0;
     for (g, four) in ss.chunks_exact(4).enumerate() {
-        let [a, b, c, d] = [four[0], four[1], four[2], four[3]];
+        let &[a, b, c, d] = four else { continue };
         if a == b && a == c && a == d && a != SphereId::NONE {
             continue;
         }
