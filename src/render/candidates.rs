@@ -446,11 +446,11 @@ pub(super) fn nearest_first(
     q: Vec3,
     light: &Light,
 ) {
-    let u = match *light {
-        Light::Point { position, .. } => (position - q).normalized(),
-        Light::Directional { direction, .. } => (-direction).normalized(),
-    }
-    .unwrap_or(Vec3::ZERO);
+    // The light's own vector towards it from `q`: a new kind of light needs nothing here.
+    let u = light
+        .to_light(q, Vec3::ZERO)
+        .normalized()
+        .unwrap_or(Vec3::ZERO);
     let d2 = |s: &SphereId| {
         spheres.get(s.index()).map_or(0.0, |b| {
             let v = b.center - q;
