@@ -115,6 +115,27 @@ impl Probe {
         }
     }
 
+    /// The slabs' constants as lanes of `P`, splat once for a walk rather than at every node.
+    #[inline(always)]
+    fn slabs<P: IeeeCmp>(&self) -> Slabs<P> {
+        let v = |[a, b, c]: [f32; 3]| [P::splat(a), P::splat(b), P::splat(c)];
+        Slabs {
+            near_o: v(self.near_o),
+            far_o: v(self.far_o),
+            inv: v(self.inv),
+        }
+    }
+}
+
+/// A [`Probe`]'s origins and reciprocals, each splat across the lanes of `P`.
+#[derive(Debug, Clone, Copy)]
+struct Slabs<P> {
+    near_o: [P; 3],
+    far_o: [P; 3],
+    inv: [P; 3],
+}
+
+impl<P: IeeeCmp> Slabs<P> {
     /// Whether the ray can meet a sphere inside the boxes whose near planes are `near` and far
     /// planes `far` (one box, or four in lanes) before `limit`, as the sphere's own test decides,
     /// and each box's key: a `t` at or before any point of it on the ray.
@@ -125,9 +146,8 @@ impl Probe {
     /// where an operand is NaN (a zero `d` component whose ray lies on a padded plane), and
     /// [`IeeeCmp::greater`] and [`IeeeCmp::lesser`] drop or keep such a slab: either culls less.
     #[inline(always)]
-    fn meets_boxes<P: IeeeCmp>(&self, near: [P; 3], far: [P; 3], limit: f32) -> (P::Mask, P) {
-        let v = P::splat;
-        let t = |p: P, o: f32, inv: f32| (p - v(o)) * v(inv);
+    fn meets_boxes(&self, near: [P; 3], far: [P; 3], limit: f32) -> (P::Mask, P) {
+        let t = |p: P, o: P, inv: P| (p - o) * inv;
         let [n0, n1, n2] = near;
         let [f0, f1, f2] = far;
         let [i0, i1, i2] = self.inv;
@@ -138,7 +158,7 @@ impl Probe {
         let leave = t(f0, fo[0], i0)
             .lesser(t(f1, fo[1], i1))
             .lesser(t(f2, fo[2], i2));
-        let culled = enter.gt(leave) | leave.lt(v(0.0)) | enter.gt(v(limit));
+        let culled = enter.gt(leave) | leave.lt(P::splat(0.0)) | enter.gt(P::splat(limit));
         (!culled, enter)
     }
 }
@@ -264,49 +284,19 @@ impl<const S: usize> Bvh<S> {
         }
     }
 
-    /// Whether `probe` can meet the boxes of nodes `first..first + n` (`n ≤ 4`) before
-    /// `limit`, as bits `0..n`, and their keys ([`Probe::meets_boxes`]): four lanes at once
-    /// where there are lanes, else one box after another.
+    /// The planes a walk along `probe` reads, chosen once for its ray ([`Planes`]).
     #[inline(always)]
-    fn meets4(&self, probe: &Probe, first: usize, n: usize, limit: f32) -> (u32, [f32; 4]) {
-        let all = (1u32 << n) - 1;
-        if !probe.sure {
-            return (all, [f32::NEG_INFINITY; 4]);
-        }
-        // The four boxes from `first`; past the last node, lanes repeat it (masked off).
-        let lanes = |b: &heapless::Vec<f32, S>| -> [f32; 4] {
-            match b.get(first..first + 4) {
-                Some(&[a, b, c, d]) => [a, b, c, d],
-                _ => {
-                    core::array::from_fn(|l| b.get(first + l).or(b.last()).copied().unwrap_or(0.0))
-                }
-            }
-        };
+    fn planes(&self, probe: &Probe) -> Planes<'_> {
         // Axis `k`'s low side is `boxes[k]`, its high side `boxes[k + 3]`.
-        let plane = |k: usize, high: bool| {
-            let i = k + 3 * high as usize;
-            self.boxes.get(i).map_or([0.0; 4], lanes)
+        let side = |k: usize, high: bool| {
+            self.boxes
+                .get(k + 3 * high as usize)
+                .map_or(&[][..], |b| b.as_slice())
         };
         let [d0, d1, d2] = probe.down;
-        let near = [plane(0, d0), plane(1, d1), plane(2, d2)];
-        let far = [plane(0, !d0), plane(1, !d1), plane(2, !d2)];
-        #[cfg(lanes)]
-        {
-            use crate::simd::{bits, F};
-            let f = |[a, b, c]: [[f32; 4]; 3]| [F::from(a), F::from(b), F::from(c)];
-            let (meets, key) = probe.meets_boxes(f(near), f(far), limit);
-            (bits(meets) & all, key.to_array())
-        }
-        #[cfg(not(lanes))]
-        {
-            let (mut meets, mut keys) = (0, [0.0; 4]);
-            for (l, key) in keys.iter_mut().enumerate().take(n) {
-                let at = |p: [[f32; 4]; 3]| p.map(|c| c[l]);
-                let (m, k) = probe.meets_boxes(at(near), at(far), limit);
-                meets |= (m as u32) << l;
-                *key = k;
-            }
-            (meets & all, keys)
+        Planes {
+            near: [side(0, d0), side(1, d1), side(2, d2)],
+            far: [side(0, !d0), side(1, !d1), side(2, !d2)],
         }
     }
 
@@ -432,42 +422,100 @@ fn bound(spheres: &[Sphere], ids: &[SphereId]) -> (Vec3, Vec3, usize) {
     (Vec3::from(lo), Vec3::from(hi), axis)
 }
 
+/// Per axis, the boxes' near planes for one ray (their high side where it runs down the axis,
+/// else the low side) and their far planes: a node's children are consecutive, so one slice
+/// gives the four planes of its children to load at once.
+#[derive(Debug, Clone, Copy)]
+struct Planes<'b> {
+    near: [&'b [f32]; 3],
+    far: [&'b [f32]; 3],
+}
+
+/// The lanes a walk tests boxes in: four f32 where there are lanes, else one.
+#[cfg(lanes)]
+type Lane = crate::simd::F;
+#[cfg(not(lanes))]
+type Lane = f32;
+
 /// A walk of the tree for one ray: the spheres of every leaf whose box the ray can meet
 /// within `tmax`, which the caller may lower as it goes (a closest-hit search). Each box is
 /// tested when its parent is opened, and its key kept beside it on the stack, so that a box
 /// pushed before a nearer hit lowered `tmax` is dropped without testing it again.
 struct Walk<'b, const S: usize> {
     bvh: &'b Bvh<S>,
-    probe: Probe,
+    planes: Planes<'b>,
+    slabs: Slabs<Lane>,
+    /// Whether the slabs decide ([`Probe::sure`]): else every box meets the ray.
+    sure: bool,
     tmax: f32,
-    stack: [(u16, f32); DEPTH],
+    stack: [(u32, f32); DEPTH],
     top: usize,
     leaf: core::slice::Iter<'b, SphereId>,
 }
 
 impl<'b, const S: usize> Walk<'b, S> {
+    /// A walk from the root, whose own box is not tested: its children's are, when it is
+    /// opened. (Built as one value, which the caller's `let` holds without a copy.)
     #[inline(always)]
     fn new(bvh: &'b Bvh<S>, probe: Probe, tmax: f32) -> Self {
-        let mut w = Walk {
+        // Zeros but for the root's key: a fill the compiler writes sixteen bytes at a time.
+        let mut stack = [(0, 0.0); DEPTH];
+        stack[0] = (0, f32::NEG_INFINITY);
+        Walk {
             bvh,
-            probe,
+            planes: bvh.planes(&probe),
+            slabs: probe.slabs(),
+            sure: probe.sure,
             tmax,
-            stack: [(0, 0.0); DEPTH],
-            top: 0,
+            stack,
+            top: usize::from(!bvh.nodes.is_empty()),
             leaf: [].iter(),
-        };
-        if !bvh.nodes.is_empty() {
-            let (meets, keys) = bvh.meets4(&probe, 0, 1, limit(tmax));
-            if meets & 1 != 0 {
-                w.stack[0] = (0, keys[0]);
-                w.top = 1;
-            }
         }
-        w
     }
 }
 
 impl<'b, const S: usize> Walk<'b, S> {
+    /// Whether the ray can meet the boxes of nodes `first..first + n` (`n ≤ 4`) before
+    /// `limit`, as bits `0..n`, and their keys ([`Slabs::meets_boxes`]): four lanes at once
+    /// where there are lanes, else one box after another.
+    #[inline(always)]
+    fn meets4(&self, first: usize, n: usize, limit: f32) -> (u32, [f32; 4]) {
+        let all = (1u32 << n) - 1;
+        if !self.sure {
+            return (all, [f32::NEG_INFINITY; 4]);
+        }
+        // The four planes from `first`; past the last node, lanes repeat it (masked off).
+        let lanes = |b: &[f32]| -> [f32; 4] {
+            match b.get(first..first + 4) {
+                Some(&[a, b, c, d]) => [a, b, c, d],
+                _ => {
+                    core::array::from_fn(|l| b.get(first + l).or(b.last()).copied().unwrap_or(0.0))
+                }
+            }
+        };
+        let ([n0, n1, n2], [f0, f1, f2]) = (self.planes.near, self.planes.far);
+        let near = [lanes(n0), lanes(n1), lanes(n2)];
+        let far = [lanes(f0), lanes(f1), lanes(f2)];
+        #[cfg(lanes)]
+        {
+            use crate::simd::{bits, F};
+            let f = |[a, b, c]: [[f32; 4]; 3]| [F::from(a), F::from(b), F::from(c)];
+            let (meets, key) = self.slabs.meets_boxes(f(near), f(far), limit);
+            (bits(meets) & all, key.to_array())
+        }
+        #[cfg(not(lanes))]
+        {
+            let (mut meets, mut keys) = (0, [0.0; 4]);
+            for (l, key) in keys.iter_mut().enumerate().take(n) {
+                let at = |p: [[f32; 4]; 3]| p.map(|c| c[l]);
+                let (m, k) = self.slabs.meets_boxes(at(near), at(far), limit);
+                meets |= (m as u32) << l;
+                *key = k;
+            }
+            (meets & all, keys)
+        }
+    }
+
     /// The spheres of the next leaf whose box the ray can meet within `tmax`, nearest boxes
     /// first; `None` once none is left.
     #[inline]
@@ -496,9 +544,7 @@ impl<'b, const S: usize> Walk<'b, S> {
             // The boxes the ray can meet, the nearest on top: a closest-hit search finds near
             // hits first and drops what lies behind them.
             let limit = limit(self.tmax);
-            let (meets, keys) = self
-                .bvh
-                .meets4(&self.probe, first, node.children as usize, limit);
+            let (meets, keys) = self.meets4(first, node.children as usize, limit);
             if meets == 0 {
                 continue;
             }
@@ -515,12 +561,12 @@ impl<'b, const S: usize> Walk<'b, S> {
                 let l = rest.trailing_zeros() as usize;
                 rest &= rest - 1;
                 if let Some(slot) = self.stack.get_mut(self.top) {
-                    *slot = ((first + l) as u16, keys[l & 3]);
+                    *slot = ((first + l) as u32, keys[l & 3]);
                     self.top += 1;
                 }
             }
             if let Some(slot) = self.stack.get_mut(self.top) {
-                *slot = ((first + nearest) as u16, keys[nearest & 3]);
+                *slot = ((first + nearest) as u32, keys[nearest & 3]);
                 self.top += 1;
             }
         }
