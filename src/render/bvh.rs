@@ -520,16 +520,25 @@ impl<'b, const S: usize> Walk<'b, S> {
     /// first; `None` once none is left.
     #[inline]
     fn next_leaf(&mut self) -> Option<&'b [SphereId]> {
+        // The node to open next: the nearest child of the last one opened, held here rather
+        // than pushed and popped again, or else the top of the stack.
+        let mut next: Option<usize> = None;
         loop {
-            if self.top == 0 {
-                return None;
-            }
-            self.top -= 1;
-            let (k, key) = *self.stack.get(self.top)?;
-            if key > limit(self.tmax) {
-                continue;
-            }
-            let node = *self.bvh.nodes.get(k as usize)?;
+            let k = match next.take() {
+                Some(k) => k,
+                None => {
+                    if self.top == 0 {
+                        return None;
+                    }
+                    self.top -= 1;
+                    let (k, key) = *self.stack.get(self.top)?;
+                    if key > limit(self.tmax) {
+                        continue;
+                    }
+                    k as usize
+                }
+            };
+            let node = *self.bvh.nodes.get(k)?;
             let (first, count) = (node.first as usize, node.count as usize);
             if count > 0 {
                 return self.bvh.order.get(first..first + count);
@@ -541,14 +550,12 @@ impl<'b, const S: usize> Walk<'b, S> {
                 self.top = 0;
                 return Some(&self.bvh.order);
             }
-            // The boxes the ray can meet, the nearest on top: a closest-hit search finds near
-            // hits first and drops what lies behind them.
             let limit = limit(self.tmax);
             let (meets, keys) = self.meets4(first, node.children as usize, limit);
             if meets == 0 {
                 continue;
             }
-            // The nearest box on top, the others below it in their order: a closest-hit
+            // The nearest box next, the others onto the stack in their order: a closest-hit
             // search opens the nearest first and drops the boxes behind its hits.
             let mut nearest = meets.trailing_zeros() as usize;
             for (l, &key) in keys.iter().enumerate() {
@@ -565,10 +572,7 @@ impl<'b, const S: usize> Walk<'b, S> {
                     self.top += 1;
                 }
             }
-            if let Some(slot) = self.stack.get_mut(self.top) {
-                *slot = ((first + nearest) as u32, keys[nearest & 3]);
-                self.top += 1;
-            }
+            next = Some(first + nearest);
         }
     }
 }
