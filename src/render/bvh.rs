@@ -518,7 +518,7 @@ impl<'b, const S: usize> Walk<'b, S> {
 
     /// The spheres of the next leaf whose box the ray can meet within `tmax`, nearest boxes
     /// first; `None` once none is left.
-    #[inline]
+    #[inline(always)]
     fn next_leaf(&mut self) -> Option<&'b [SphereId]> {
         // The node to open next: the nearest child of the last one opened, held here rather
         // than pushed and popped again, or else the top of the stack.
