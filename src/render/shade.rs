@@ -134,10 +134,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
 
     /// The spheres that can block light `i` at the secondary hit `hit`, as light `i`'s sweep
     /// names them for a ball about the hit point (the span's search, `Frame::gather`, for one
-    /// point), each kept where [`LightKind::may_block`] says it may; `None` where the light has
-    /// no sweep or more than `SHORT` are kept. The ball's radius, 10⁻⁵ of the point's largest
-    /// coordinate, covers far more than the rounding of `anchor + rel`, whose exact sum the
-    /// shadow rays leave from.
+    /// point); `None` where the light has no sweep or it names more than `SHORT`. The ball's
+    /// radius, 10⁻⁵ of the point's largest coordinate, covers far more than the rounding of
+    /// `anchor + rel`, whose exact sum the shadow rays leave from. Unlike a span's list, which
+    /// many rays share, this one is not filtered by [`LightKind::may_block`]: for one ray the
+    /// filter costs more than the shadow test's own early outs for the spheres it drops.
     #[inline(always)]
     fn swept_blockers(&self, hit: &Hit, i: usize, light: &Light) -> Option<List<SHORT>> {
         if !Self::SWEEPS {
@@ -149,14 +150,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             return None;
         }
         let (sweep, band) = self.tables.sweeps.get(i)?.band(light, q, rho)?;
-        let spheres = self.scene.spheres();
         let (mut list, mut full) = (List::<SHORT>::new(), false);
-        let mut consider = |s: SphereId| {
-            let keep = spheres
-                .get(s.index())
-                .is_some_and(|b| light.may_block(b.center, b.radius, q, rho));
-            full |= keep && list.push(s).is_err();
-        };
+        let mut consider = |s: SphereId| full |= list.push(s).is_err();
         sweep.each::<false>(band, &mut consider);
         (!full).then_some(list)
     }
