@@ -448,6 +448,8 @@ struct Walk<'b, const S: usize> {
     /// Whether the slabs decide ([`Probe::sure`]): else every box meets the ray.
     sure: bool,
     tmax: f32,
+    /// Nodes to open and their keys; `u32`, not `u16`, so that an entry has no padding and
+    /// the walk's zero fill is a few wide stores.
     stack: [(u32, f32); DEPTH],
     top: usize,
     leaf: core::slice::Iter<'b, SphereId>,
