@@ -30,11 +30,19 @@ pub(super) struct Sweep<const S: usize> {
     /// Where a scan starts: `start[b]` counts the sorted entries whose [`Sweep::bucket`] is
     /// below `b` (one more than the buckets, the last the number of entries), so that a
     /// search for a key needs only its bucket's few entries, not a binary search over all of
-    /// them (a chain of dependent loads).
+    /// them (a chain of dependent loads). With slabs, each slab's index by `key2` follows
+    /// ([`Sweep::first_in_slab`]).
     pub(super) start: heapless::Vec<u16, S>,
+    /// The buckets of `key` (the slabs, with `slabs`), whose starts open `start`.
+    pub(super) buckets: u16,
     /// The smallest key, and buckets per unit of key (zero: one bucket).
     pub(super) k_lo: f32,
     pub(super) per_key: f32,
+    /// With slabs: buckets of `key2` per slab (zero: none, a binary search), over the sweep's
+    /// range of `key2` from `k2_lo`, `per_key2` buckets per unit.
+    pub(super) per_slab: u16,
+    pub(super) k2_lo: f32,
+    pub(super) per_key2: f32,
     /// The buckets are slabs (hosts, [`SLABS_FROM`] entries or more): a few long ones, each
     /// sorted by `key2` instead of `key`, so that a search takes the entries near the span in
     /// both keys, not all those in a slab across the scene.
@@ -53,6 +61,19 @@ pub(super) struct Sweep<const S: usize> {
 /// ([`Sweep::slabs`]): below it a scan of the band's few entries costs less than a search per
 /// slab.
 pub(super) const SLABS_FROM: usize = 4096;
+
+/// The bucket of `key` among `buckets` from `lo`, `per` to a unit: a subtraction, a product by a
+/// constant ≥ 0 and a saturating conversion, each monotonic in IEEE arithmetic.
+#[inline(always)]
+fn bucket_of(key: f32, lo: f32, per: f32, buckets: usize) -> usize {
+    let x = (key - lo) * per;
+    // `!(x >= 0)` also takes a NaN (x = 0·∞) to the first bucket.
+    if !(x >= 0.0) {
+        0
+    } else {
+        (x as usize).min(buckets.saturating_sub(1))
+    }
+}
 
 /// One sphere in a [`Sweep`], while it is built.
 #[derive(Debug, Clone, Copy)]
@@ -106,8 +127,12 @@ impl<const S: usize> Sweep<S> {
             sphere: heapless::Vec::new(),
             hw_max: 0.0,
             start: heapless::Vec::new(),
+            buckets: 0,
             k_lo: 0.0,
             per_key: 0.0,
+            per_slab: 0,
+            k2_lo: 0.0,
+            per_key2: 0.0,
             slabs: false,
             axis: Vec3::ZERO,
             axis2: Vec3::ZERO,
@@ -120,14 +145,13 @@ impl<const S: usize> Sweep<S> {
     /// `start[bucket(x) + 1]` keys above it.
     #[inline(always)]
     pub(super) fn bucket(&self, key: f32) -> usize {
-        let x = (key - self.k_lo) * self.per_key;
-        let last = self.start.len().saturating_sub(2);
-        // `!(x >= 0)` also takes a NaN (x = 0·∞) to the first bucket.
-        if !(x >= 0.0) {
-            0
-        } else {
-            (x as usize).min(last)
-        }
+        bucket_of(key, self.k_lo, self.per_key, self.buckets.into())
+    }
+
+    /// The bucket of `key2` within a slab, as [`Sweep::bucket`] is of `key`: non-decreasing.
+    #[inline(always)]
+    fn bucket2(&self, key2: f32) -> usize {
+        bucket_of(key2, self.k2_lo, self.per_key2, self.per_slab.into())
     }
 
     /// Empties the sweep in place, as [`Sweep::empty`] is (lengths and scalars only).
@@ -140,8 +164,12 @@ impl<const S: usize> Sweep<S> {
         self.sphere.clear();
         self.hw_max = 0.0;
         self.start.clear();
+        self.buckets = 0;
         self.k_lo = 0.0;
         self.per_key = 0.0;
+        self.per_slab = 0;
+        self.k2_lo = 0.0;
+        self.per_key2 = 0.0;
         self.slabs = false;
         self.axis = Vec3::ZERO;
         self.axis2 = Vec3::ZERO;
@@ -234,7 +262,7 @@ impl<const S: usize> Sweep<S> {
     /// Sorts each bucket's entries by `key2` (through `all`, the entries in key order): the
     /// buckets stay where they are, a bucket being a run of keys (`bucket` is monotonic).
     fn sort_slabs(&mut self, all: &mut heapless::Vec<Entry, S>) {
-        for b in 0..self.start.len().saturating_sub(1) {
+        for b in 0..usize::from(self.buckets) {
             let (Some(&lo), Some(&hi)) = (self.start.get(b), self.start.get(b + 1)) else {
                 continue;
             };
@@ -254,6 +282,68 @@ impl<const S: usize> Sweep<S> {
             let _ = self.key2.push(e.key2);
             let _ = self.depth.push(e.depth);
             let _ = self.sphere.push(e.sphere);
+        }
+        self.index_slabs();
+    }
+
+    /// Indexes each slab by `key2` (`per_slab`), its starts after the slabs' in `start`: about
+    /// four entries a bucket, over the range of every slab's `key2` (the slabs lie across it
+    /// alike). Without room in `start` (never, from `SLABS_FROM` entries: the slabs' indexes
+    /// take about a quarter as many starts), none: a slab is then searched.
+    fn index_slabs(&mut self) {
+        let (n, slabs) = (self.key.len(), usize::from(self.buckets));
+        let per_slab = (n / slabs.max(1) / 4).max(1);
+        let (lo, hi) = self
+            .key2
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), &k| {
+                (if k < l { k } else { l }, if k > h { k } else { h })
+            });
+        let per_key2 = per_slab as f32 / (hi - lo);
+        (self.k2_lo, self.per_key2) = (lo, if per_key2.is_finite() { per_key2 } else { 0.0 });
+        // At most `n / 4`, and n ≤ S is below 2¹⁶ (`Frame::FITS`).
+        self.per_slab = per_slab as u16;
+        for s in 0..slabs {
+            let (Some(&first), Some(&end)) = (self.start.get(s), self.start.get(s + 1)) else {
+                break;
+            };
+            let mut i = first as usize;
+            for b in 0..=per_slab {
+                while i < end as usize && self.key2.get(i).is_some_and(|&k| self.bucket2(k) < b) {
+                    i += 1;
+                }
+                if self.start.push(i as u16).is_err() {
+                    self.start.truncate(slabs + 1);
+                    self.per_slab = 0;
+                    return;
+                }
+            }
+        }
+    }
+
+    /// The first entry of slab `slab` (entries `lo..hi`) whose `key2` is `k2` or more: from the
+    /// start of `k2`'s bucket in the slab, where every entry before has a smaller bucket and
+    /// so a smaller `key2`, a step at a time over the bucket's few smaller ones; a binary search
+    /// (a chain of dependent loads, each a likely cache miss in a large sweep) where the slab
+    /// has no index.
+    #[inline(always)]
+    fn first_in_slab(&self, slab: usize, (lo, hi): (usize, usize), k2: f32) -> usize {
+        let (slabs, per) = (usize::from(self.buckets), usize::from(self.per_slab));
+        let at = slabs + 1 + slab * (per + 1) + self.bucket2(k2);
+        match self.start.get(at) {
+            Some(&i) if per > 0 => {
+                let mut i = i as usize;
+                while i < hi && self.key2.get(i).is_some_and(|&x| x < k2) {
+                    i += 1;
+                }
+                i
+            }
+            _ => {
+                lo + self
+                    .key2
+                    .get(lo..hi)
+                    .map_or(0, |k2s| k2s.partition_point(|&x| x < k2))
+            }
         }
     }
 
@@ -306,6 +396,8 @@ impl<const S: usize> Sweep<S> {
             let _ = self.start.push(0);
         }
         let mut i = 0;
+        // `start` holds at most S values, and S is below 2¹⁶ (`Frame::FITS`).
+        self.buckets = self.start.len().saturating_sub(1) as u16;
         for b in 0..=buckets {
             while self.key.get(i).is_some_and(|&k| self.bucket(k) < b) {
                 i += 1;
@@ -403,10 +495,7 @@ impl<const S: usize> Sweep<S> {
                 return;
             };
             let (lo, hi) = (lo as usize, hi as usize);
-            let Some(k2s) = self.key2.get(lo..hi) else {
-                return;
-            };
-            let mut i = lo + k2s.partition_point(|&k2| k2 < lo2);
+            let mut i = self.first_in_slab(slab, (lo, hi), lo2);
             while i < hi {
                 let (Some(&k), Some(&h), Some(&k2), Some(&d), Some(&s)) = (
                     self.key.get(i),

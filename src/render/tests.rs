@@ -270,6 +270,8 @@ mod slab_tests {
             w.hw_max = entries.iter().map(|e| e.half).fold(0.0, f32::max);
             w.arrange(&mut all);
             assert_eq!(w.slabs, n >= SLABS_FROM, "case {case}");
+            // Slabs come with their index by `key2`, not a binary search each.
+            assert_eq!(w.per_slab > 0, w.slabs, "case {case}");
             for q in 0..3000 {
                 let slack = [0.0, 1e-5, 1e-3][q % 3] * scale;
                 let e = entries[(g.next() % n as u64) as usize];
