@@ -38,11 +38,8 @@ pub(super) struct Sweep<const S: usize> {
     /// The smallest key, and buckets per unit of key (zero: one bucket).
     pub(super) k_lo: f32,
     pub(super) per_key: f32,
-    /// With slabs: buckets of `key2` per slab (zero: none, a binary search), over the sweep's
-    /// range of `key2` from `k2_lo`, `per_key2` buckets per unit.
-    pub(super) per_slab: u16,
-    pub(super) k2_lo: f32,
-    pub(super) per_key2: f32,
+    /// With slabs, each slab's index by `key2`.
+    pub(super) by_key2: SlabIndex,
     /// The buckets are slabs (hosts, [`SLABS_FROM`] entries or more): a few long ones, each
     /// sorted by `key2` instead of `key`, so that a search takes the entries near the span in
     /// both keys, not all those in a slab across the scene.
@@ -61,6 +58,33 @@ pub(super) struct Sweep<const S: usize> {
 /// ([`Sweep::slabs`]): below it a scan of the band's few entries costs less than a search per
 /// slab.
 pub(super) const SLABS_FROM: usize = 4096;
+
+/// Each slab's bucket index by `key2` ([`Sweep::first_in_slab`]): `per_slab` buckets a slab
+/// (zero: none, a binary search), over the sweep's range of `key2` from `lo`, `per` buckets a
+/// unit. Hosts only, whose large sweeps have slabs; elsewhere an empty type.
+#[cfg(lanes)]
+#[derive(Debug, Clone, Copy)]
+pub(super) struct SlabIndex {
+    pub(super) per_slab: u16,
+    lo: f32,
+    per: f32,
+}
+
+/// No slabs without lanes: nothing to index.
+#[cfg(not(lanes))]
+#[derive(Debug, Clone, Copy)]
+pub(super) struct SlabIndex;
+
+impl SlabIndex {
+    #[cfg(lanes)]
+    const NONE: Self = SlabIndex {
+        per_slab: 0,
+        lo: 0.0,
+        per: 0.0,
+    };
+    #[cfg(not(lanes))]
+    const NONE: Self = SlabIndex;
+}
 
 /// The bucket of `key` among `buckets` from `lo`, `per` to a unit: a subtraction, a product by a
 /// constant ≥ 0 and a saturating conversion, each monotonic in IEEE arithmetic.
@@ -130,9 +154,7 @@ impl<const S: usize> Sweep<S> {
             buckets: 0,
             k_lo: 0.0,
             per_key: 0.0,
-            per_slab: 0,
-            k2_lo: 0.0,
-            per_key2: 0.0,
+            by_key2: SlabIndex::NONE,
             slabs: false,
             axis: Vec3::ZERO,
             axis2: Vec3::ZERO,
@@ -149,9 +171,11 @@ impl<const S: usize> Sweep<S> {
     }
 
     /// The bucket of `key2` within a slab, as [`Sweep::bucket`] is of `key`: non-decreasing.
+    #[cfg(lanes)]
     #[inline(always)]
     fn bucket2(&self, key2: f32) -> usize {
-        bucket_of(key2, self.k2_lo, self.per_key2, self.per_slab.into())
+        let x = &self.by_key2;
+        bucket_of(key2, x.lo, x.per, x.per_slab.into())
     }
 
     /// Empties the sweep in place, as [`Sweep::empty`] is (lengths and scalars only).
@@ -167,9 +191,7 @@ impl<const S: usize> Sweep<S> {
         self.buckets = 0;
         self.k_lo = 0.0;
         self.per_key = 0.0;
-        self.per_slab = 0;
-        self.k2_lo = 0.0;
-        self.per_key2 = 0.0;
+        self.by_key2 = SlabIndex::NONE;
         self.slabs = false;
         self.axis = Vec3::ZERO;
         self.axis2 = Vec3::ZERO;
@@ -283,6 +305,7 @@ impl<const S: usize> Sweep<S> {
             let _ = self.depth.push(e.depth);
             let _ = self.sphere.push(e.sphere);
         }
+        #[cfg(lanes)]
         self.index_slabs();
     }
 
@@ -290,6 +313,7 @@ impl<const S: usize> Sweep<S> {
     /// four entries a bucket, over the range of every slab's `key2` (the slabs lie across it
     /// alike). Without room in `start` (never, from `SLABS_FROM` entries: the slabs' indexes
     /// take about a quarter as many starts), none: a slab is then searched.
+    #[cfg(lanes)]
     fn index_slabs(&mut self) {
         let (n, slabs) = (self.key.len(), usize::from(self.buckets));
         let per_slab = (n / slabs.max(1) / 4).max(1);
@@ -299,10 +323,13 @@ impl<const S: usize> Sweep<S> {
             .fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), &k| {
                 (if k < l { k } else { l }, if k > h { k } else { h })
             });
-        let per_key2 = per_slab as f32 / (hi - lo);
-        (self.k2_lo, self.per_key2) = (lo, if per_key2.is_finite() { per_key2 } else { 0.0 });
-        // At most `n / 4`, and n ≤ S is below 2¹⁶ (`Frame::FITS`).
-        self.per_slab = per_slab as u16;
+        let per = per_slab as f32 / (hi - lo);
+        self.by_key2 = SlabIndex {
+            // At most `n / 4`, and n ≤ S is below 2¹⁶ (`Frame::FITS`).
+            per_slab: per_slab as u16,
+            lo,
+            per: if per.is_finite() { per } else { 0.0 },
+        };
         for s in 0..slabs {
             let (Some(&first), Some(&end)) = (self.start.get(s), self.start.get(s + 1)) else {
                 break;
@@ -314,7 +341,7 @@ impl<const S: usize> Sweep<S> {
                 }
                 if self.start.push(i as u16).is_err() {
                     self.start.truncate(slabs + 1);
-                    self.per_slab = 0;
+                    self.by_key2 = SlabIndex::NONE;
                     return;
                 }
             }
@@ -328,23 +355,26 @@ impl<const S: usize> Sweep<S> {
     /// has no index.
     #[inline(always)]
     fn first_in_slab(&self, slab: usize, (lo, hi): (usize, usize), k2: f32) -> usize {
-        let (slabs, per) = (usize::from(self.buckets), usize::from(self.per_slab));
-        let at = slabs + 1 + slab * (per + 1) + self.bucket2(k2);
-        match self.start.get(at) {
-            Some(&i) if per > 0 => {
+        #[cfg(lanes)]
+        {
+            let (slabs, per) = (
+                usize::from(self.buckets),
+                usize::from(self.by_key2.per_slab),
+            );
+            let at = slabs + 1 + slab * (per + 1) + self.bucket2(k2);
+            if let (Some(&i), true) = (self.start.get(at), per > 0) {
                 let mut i = i as usize;
                 while i < hi && self.key2.get(i).is_some_and(|&x| x < k2) {
                     i += 1;
                 }
-                i
-            }
-            _ => {
-                lo + self
-                    .key2
-                    .get(lo..hi)
-                    .map_or(0, |k2s| k2s.partition_point(|&x| x < k2))
+                return i;
             }
         }
+        let _ = slab;
+        lo + self
+            .key2
+            .get(lo..hi)
+            .map_or(0, |k2s| k2s.partition_point(|&x| x < k2))
     }
 
     /// The index of the first key ≥ `x` (`key.partition_point(|&k| k < x)`), searched in

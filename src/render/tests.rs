@@ -271,7 +271,7 @@ mod slab_tests {
             w.arrange(&mut all);
             assert_eq!(w.slabs, n >= SLABS_FROM, "case {case}");
             // Slabs come with their index by `key2`, not a binary search each.
-            assert_eq!(w.per_slab > 0, w.slabs, "case {case}");
+            assert_eq!(w.by_key2.per_slab > 0, w.slabs, "case {case}");
             for q in 0..3000 {
                 let slack = [0.0, 1e-5, 1e-3][q % 3] * scale;
                 let e = entries[(g.next() % n as u64) as usize];
