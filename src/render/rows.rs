@@ -193,6 +193,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let _ = cull.spheres.row.push(SphereId::new(s));
             }
         }
+        self.index_row(cull);
         self.start_miss(cull);
     }
 

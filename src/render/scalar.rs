@@ -7,6 +7,25 @@
 use super::*;
 
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
+    /// The span's spheres: the row's whose box meets its columns, in the row's order.
+    #[inline(always)]
+    pub(super) fn span_spheres(&self, cull: &mut Cull<S, L>) {
+        let (i0, i1) = (cull.span_start, cull.span_end);
+        cull.spheres.span.clear();
+        for &s in &cull.spheres.row {
+            if let Some(b) = self.tables.boxes.get(s.index()) {
+                if meets_columns(b, i0, i1) {
+                    let _ = cull.spheres.span.push(s);
+                }
+            }
+        }
+    }
+
+    /// Nothing to index: a span reads the row's whole list, which holds a microcontroller
+    /// scene's few spheres.
+    #[inline(always)]
+    pub(super) fn index_row(&self, _cull: &mut Cull<S, L>) {}
+
     /// Spans keep their width here: one row's span holds few hit groups' worth of pixels.
     #[inline(always)]
     pub(super) fn narrow_span(&self, _cull: &mut Cull<S, L>) {}

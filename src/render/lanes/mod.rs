@@ -82,6 +82,52 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         cull.spheres.row.sort_unstable_by(by_key);
         cull.spheres.span.sort_unstable_by(by_key);
         cull.spheres.sorted = true;
+        self.index_row(cull);
+    }
+
+    /// The span's spheres: the row's whose box meets its columns, in the row's order, from the
+    /// blocks of the row's list that meet them (`Frame::index_row`).
+    #[inline(always)]
+    pub(super) fn span_spheres(&self, cull: &mut Cull<S, L>) {
+        let (i0, i1) = (cull.span_start, cull.span_end);
+        let Spheres { row, span, .. } = &mut cull.spheres;
+        let path = &cull.hits.path;
+        span.clear();
+        for (block, cols) in row.chunks(path.block.max(1)).zip(&path.blocks) {
+            if !meets_columns(cols, i0, i1) {
+                continue;
+            }
+            for &s in block {
+                if let Some(b) = self.tables.boxes.get(s.index()) {
+                    if meets_columns(b, i0, i1) {
+                        let _ = span.push(s);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Splits the row's list into at most [`BLOCKS`] blocks of consecutive entries and keeps
+    /// each block's columns (the least `i0`, the greatest `i1` of its boxes), so that a span
+    /// skips the blocks that miss it: over many small spheres in scene order a block lies in a
+    /// few columns, and a span then reads a few blocks of the row's hundreds of spheres.
+    pub(super) fn index_row(&self, cull: &mut Cull<S, L>) {
+        let row = &cull.spheres.row;
+        let path = &mut cull.hits.path;
+        path.block = row.len().div_ceil(BLOCKS).max(1);
+        for (block, out) in row.chunks(path.block).zip(path.blocks.iter_mut()) {
+            let boxes = block
+                .iter()
+                .filter_map(|s| self.tables.boxes.get(s.index()));
+            let (i0, i1) = boxes.fold((u16::MAX, 0), |(lo, hi), b| (lo.min(b.i0), hi.max(b.i1)));
+            // Only the columns are read (`meets_columns`).
+            *out = PixelBox {
+                i0,
+                i1,
+                j0: 0,
+                j1: 0,
+            };
+        }
     }
 
     /// [`Frame::narrow_span`] of a span that meets more than [`CROWD`] boxes.
@@ -123,6 +169,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let _ = cull.spheres.row.push(SphereId::new(s));
             }
         }
+        self.index_row(cull);
         cull.hits.path.rows = n;
         self.start_miss(cull);
     }
@@ -235,7 +282,14 @@ pub(super) struct PathState {
     /// slots `r·SPAN + k`, and the first slot of the row being shaded.
     pub(super) rows: u32,
     pub(super) base: usize,
+    /// The row's list in blocks of `block` entries, and each block's columns as a box whose
+    /// rows are not read (`Frame::index_row`).
+    pub(super) block: usize,
+    pub(super) blocks: [PixelBox; BLOCKS],
 }
+
+/// The most blocks a row's list is split into (`Frame::index_row`).
+const BLOCKS: usize = 64;
 
 impl PathState {
     pub(super) fn new() -> Self {
@@ -248,6 +302,8 @@ impl PathState {
             tiled: false,
             rows: 1,
             base: 0,
+            block: 1,
+            blocks: [PixelBox::EMPTY; BLOCKS],
         }
     }
 }
