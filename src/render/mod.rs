@@ -164,6 +164,8 @@ struct Tables<'a, const S: usize, const L: usize> {
     near: &'a [bool],
     #[cfg(lanes)]
     pile: &'a [f32],
+    #[cfg(lanes)]
+    box_rows: &'a [PixelBox],
     bvh: &'a Bvh<S>,
 }
 
@@ -218,6 +220,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 near: &storage.near,
                 #[cfg(lanes)]
                 pile: &storage.pile,
+                #[cfg(lanes)]
+                box_rows: &storage.box_rows,
                 bvh: &storage.bvh,
             },
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),

@@ -53,6 +53,9 @@ pub struct FrameStorage<const S: usize, const L: usize, P: Place = Inline> {
     /// Per sphere, the order of a deep pile of spheres (hosts: `lanes::pile_key`).
     #[cfg(lanes)]
     pub(super) pile: P::Slot<heapless::Vec<f32, S>>,
+    /// The rows of each block of the boxes (hosts: `lanes::index_boxes`).
+    #[cfg(lanes)]
+    pub(super) box_rows: P::Slot<heapless::Vec<PixelBox, { super::lanes::BOX_BLOCKS }>>,
     /// The hierarchy that culls secondary rays, where the scene has them and `SWEEPS`.
     pub(super) bvh: P::Slot<Bvh<S>>,
 }
@@ -155,6 +158,8 @@ impl<const S: usize, const L: usize> FrameStorage<S, L, Inline> {
         near: InlineSlot(heapless::Vec::new()),
         #[cfg(lanes)]
         pile: InlineSlot(heapless::Vec::new()),
+        #[cfg(lanes)]
+        box_rows: InlineSlot(heapless::Vec::new()),
         bvh: InlineSlot(Bvh::EMPTY),
     };
 }
@@ -184,6 +189,8 @@ impl<const S: usize, const L: usize> FrameStorage<S, L, Heap> {
             near: boxed(),
             #[cfg(lanes)]
             pile: boxed(),
+            #[cfg(lanes)]
+            box_rows: boxed(),
             bvh: boxed(),
         }
     }
@@ -261,6 +268,8 @@ impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
             let _ = self.pile.push(super::lanes::pile_key(&k));
             let _ = self.eye.push(k);
         }
+        #[cfg(lanes)]
+        super::lanes::index_boxes(&self.boxes, &mut self.box_rows);
         if sweeps {
             let secondary = scene.has_secondary().then_some(scene.spheres());
             self.bvh.fill(secondary.unwrap_or(&[]));

@@ -162,11 +162,17 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     pub(super) fn start_rows(&self, j: u32, n: u32, cull: &mut Cull<S, L>) {
         cull.spheres.row.clear();
         cull.spheres.sorted = false;
-        // The rows the box and the tile share, none for an empty box (`j0 > j1`).
         let last = j + n.max(1) - 1;
-        for (s, b) in self.tables.boxes.iter().enumerate() {
-            if (b.j0 as u32).max(j) <= (b.j1 as u32).min(last) {
-                let _ = cull.spheres.row.push(SphereId::new(s));
+        let (boxes, blocks) = (self.tables.boxes, self.tables.box_rows);
+        let size = box_block(boxes.len());
+        for (k, (block, rows)) in boxes.chunks(size).zip(blocks).enumerate() {
+            if !meets_rows(rows, j, last) {
+                continue;
+            }
+            for (s, b) in (k * size..).zip(block) {
+                if meets_rows(b, j, last) {
+                    let _ = cull.spheres.row.push(SphereId::new(s));
+                }
             }
         }
         self.index_row(cull);
@@ -287,6 +293,41 @@ pub(super) struct PathState {
     pub(super) block: usize,
     pub(super) blocks: [PixelBox; BLOCKS],
 }
+
+/// Splits the frame's `boxes`, in scene order, into at most [`BOX_BLOCKS`] blocks of
+/// [`box_block`] boxes and keeps in `rows` each block's rows (the least `j0`, the greatest
+/// `j1`), so that `Frame::start_rows` skips the blocks that miss its tile: over many small
+/// spheres in scene order a block lies in a few rows. Once a frame (`FrameStorage::fill`).
+pub(super) fn index_boxes(boxes: &[PixelBox], rows: &mut heapless::Vec<PixelBox, BOX_BLOCKS>) {
+    rows.clear();
+    for block in boxes.chunks(box_block(boxes.len())) {
+        let (j0, j1) = block
+            .iter()
+            .fold((u16::MAX, 0), |(lo, hi), b| (lo.min(b.j0), hi.max(b.j1)));
+        // Only the rows are read (`meets_rows`). At most `BOX_BLOCKS` blocks: room for each.
+        let _ = rows.push(PixelBox {
+            i0: 0,
+            i1: 0,
+            j0,
+            j1,
+        });
+    }
+}
+
+/// Boxes a block of [`index_boxes`]: as few as make at most [`BOX_BLOCKS`] blocks.
+#[inline(always)]
+fn box_block(n: usize) -> usize {
+    n.div_ceil(BOX_BLOCKS).max(1)
+}
+
+/// Whether the box `b` meets the rows `j..=last` (a tile's), none for an empty box (`j0 > j1`).
+#[inline(always)]
+fn meets_rows(b: &PixelBox, j: u32, last: u32) -> bool {
+    (b.j0 as u32).max(j) <= (b.j1 as u32).min(last)
+}
+
+/// The most blocks the frame's boxes are split into ([`index_boxes`]).
+pub(super) const BOX_BLOCKS: usize = 256;
 
 /// The most blocks a row's list is split into (`Frame::index_row`).
 const BLOCKS: usize = 64;
