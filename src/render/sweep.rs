@@ -99,6 +99,28 @@ fn bucket_of(key: f32, lo: f32, per: f32, buckets: usize) -> usize {
     }
 }
 
+/// The start of each bucket `0..=buckets` of `keys`, along which `bucket` does not decrease:
+/// the index (counted from `base`) of the first key whose bucket is that one or a later, given
+/// to `out` bucket by bucket, which returns `false` to stop (and then so does this).
+fn bucket_starts(
+    keys: &[f32],
+    base: usize,
+    buckets: usize,
+    bucket: impl Fn(f32) -> usize,
+    mut out: impl FnMut(usize) -> bool,
+) -> bool {
+    let mut i = 0;
+    for b in 0..=buckets {
+        while keys.get(i).is_some_and(|&k| bucket(k) < b) {
+            i += 1;
+        }
+        if !out(base + i) {
+            return false;
+        }
+    }
+    true
+}
+
 /// One sphere in a [`Sweep`], while it is built.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Entry {
@@ -334,16 +356,16 @@ impl<const S: usize> Sweep<S> {
             let (Some(&first), Some(&end)) = (self.start.get(s), self.start.get(s + 1)) else {
                 break;
             };
-            let mut i = first as usize;
-            for b in 0..=per_slab {
-                while i < end as usize && self.key2.get(i).is_some_and(|&k| self.bucket2(k) < b) {
-                    i += 1;
-                }
-                if self.start.push(i as u16).is_err() {
-                    self.start.truncate(slabs + 1);
-                    self.by_key2 = SlabIndex::NONE;
-                    return;
-                }
+            let (first, x) = (first as usize, self.by_key2);
+            let keys = self.key2.get(first..end as usize).unwrap_or(&[]);
+            let start = &mut self.start;
+            let bucket = |k| bucket_of(k, x.lo, x.per, per_slab);
+            if !bucket_starts(keys, first, per_slab, bucket, |i| {
+                start.push(i as u16).is_ok()
+            }) {
+                self.start.truncate(slabs + 1);
+                self.by_key2 = SlabIndex::NONE;
+                return;
             }
         }
     }
@@ -425,17 +447,17 @@ impl<const S: usize> Sweep<S> {
         for _ in 0..=buckets {
             let _ = self.start.push(0);
         }
-        let mut i = 0;
         // `start` holds at most S values, and S is below 2¹⁶ (`Frame::FITS`).
         self.buckets = self.start.len().saturating_sub(1) as u16;
-        for b in 0..=buckets {
-            while self.key.get(i).is_some_and(|&k| self.bucket(k) < b) {
-                i += 1;
-            }
-            if let Some(first) = self.start.get_mut(b) {
+        let (lo, per, n) = (self.k_lo, self.per_key, usize::from(self.buckets));
+        let mut starts = self.start.iter_mut();
+        let bucket = |k| bucket_of(k, lo, per, n);
+        bucket_starts(&self.key, 0, buckets, bucket, |i| {
+            if let Some(first) = starts.next() {
                 *first = i as u16;
             }
-        }
+            true
+        });
     }
 
     /// Calls `consider` with every sphere that a shadow ray from within the band can meet: the
