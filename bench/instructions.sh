@@ -9,14 +9,17 @@
 # examples/instructions.rs: `Frame::render_rows` over the whole frame, one thread, without
 # parsing, `Frame::new` or PNG encoding), instructions_per_pixel=, and pixel_hash= (FNV-1a of
 # the pixels, so that two builds can be checked to render the same image). Installs valgrind if
-# it is missing.
+# it is missing. Counts the portable x86-64 build (`-C target-cpu=x86-64`, in target/portable),
+# not the repository's native one (.cargo/config.toml): counts that do not depend on the machine,
+# and valgrind decodes no AVX-512.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 scenes=("$@")
 [ ${#scenes[@]} -gt 0 ] || scenes=("$root/bench/scenes/target.toml")
 command -v valgrind >/dev/null || { apt-get update && apt-get install -y valgrind; }
-cargo build --quiet --release --example instructions --manifest-path "$root/Cargo.toml"
-bin=$root/target/release/examples/instructions
+RUSTFLAGS="-C target-cpu=x86-64" cargo build --quiet --release --example instructions \
+  --manifest-path "$root/Cargo.toml" --target-dir "$root/target/portable"
+bin=$root/target/portable/release/examples/instructions
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 for scene in "${scenes[@]}"; do
