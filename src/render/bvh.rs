@@ -335,7 +335,6 @@ impl<const S: usize> Bvh<S> {
         hit: &Hit,
     ) -> Option<Hit> {
         use crate::shading::{closest_hit, leaving_own};
-        let from = hit.sphere;
         let spheres = scene.spheres();
         let mut best = leaving_own(spheres, ray, hit);
         // The brute-force loop asks `from` first, then the others in scene order, each with
@@ -343,43 +342,56 @@ impl<const S: usize> Bvh<S> {
         // order wins. A sphere's `t` does not depend on `tmax`, which only accepts it.
         let probe = Probe::new(hit.anchor, hit.rel, ray.dir, 0.0);
         let mut walk = Walk::new(self, probe, f32::INFINITY);
-        let mut ask = |j: usize, walk: &mut Walk<'_, S>| {
-            let Some(s) = spheres.get(j) else {
-                return;
-            };
-            if j == from {
-                return;
-            }
-            let tmax = best.map_or(f32::INFINITY, |b| b.0);
-            let Some((t, f)) = Prepared::leaving_hit(hit.anchor, hit.rel, s, ray.dir, T_EPS, tmax)
-            else {
-                return;
-            };
-            let wins = match best {
-                Some((tb, jb, ..)) => t < tb || jb == from || j > jb,
-                None => true,
-            };
-            if wins {
-                best = Some((t, j, f, s));
-                walk.tmax = t;
-            }
-        };
+        let d = ray.dir;
         for s in &self.wide {
-            ask(s.index(), &mut walk);
+            ask(spheres, s.index(), hit, d, &mut best, &mut walk);
         }
         while let Some(leaf) = walk.next_leaf() {
             for four in leaf.chunks(4) {
-                let mut open = open_among(spheres, four, hit, ray.dir);
+                let mut open = open_among(spheres, four, hit, d);
                 while open != 0 {
                     let l = open.trailing_zeros() as usize;
                     open &= open - 1;
                     if let Some(s) = four.get(l) {
-                        ask(s.index(), &mut walk);
+                        ask(spheres, s.index(), hit, d, &mut best, &mut walk);
                     }
                 }
             }
         }
         best.map(|b| closest_hit(scene, ray, hit, b))
+    }
+}
+
+/// [`Bvh::find_from`]'s question to sphere `j` (not `hit`'s own): its hit along `d` from `hit`,
+/// which replaces `best` where the brute-force loop's order would let it win, and then limits
+/// the walk. A function, not a closure called from two places, so that it is inlined in both.
+#[inline(always)]
+fn ask<'s, const S: usize>(
+    spheres: &'s [Sphere],
+    j: usize,
+    hit: &Hit,
+    d: Vec3,
+    best: &mut Option<crate::shading::Closest<'s>>,
+    walk: &mut Walk<'_, S>,
+) {
+    let from = hit.sphere;
+    let Some(s) = spheres.get(j) else {
+        return;
+    };
+    if j == from {
+        return;
+    }
+    let tmax = best.map_or(f32::INFINITY, |b| b.0);
+    let Some((t, f)) = Prepared::leaving_hit(hit.anchor, hit.rel, s, d, T_EPS, tmax) else {
+        return;
+    };
+    let wins = match *best {
+        Some((tb, jb, ..)) => t < tb || jb == from || j > jb,
+        None => true,
+    };
+    if wins {
+        *best = Some((t, j, f, s));
+        walk.tmax = t;
     }
 }
 

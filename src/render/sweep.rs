@@ -574,6 +574,8 @@ impl<const S: usize> Sweep<S> {
     /// `axis2`, `|key2_j − key2| ≤ half-width_j + slack`, with no depth bound (`far`
     /// infinite: a scan with `DEPTH` is given the ball's reach, [`LightKind::far_depth`]); or
     /// `None` when the sweep does not apply (no axis, or the light inside the ball).
+    /// Inlined: a secondary hit's shadow ray asks it once per ray (`Frame::swept_blockers`).
+    #[inline(always)]
     pub(super) fn band(&self, light: &Light, q: Vec3, rho: f32) -> Option<(&Self, Band)> {
         if self.axis == Vec3::ZERO {
             return None;
