@@ -5,7 +5,7 @@
 //! computes the scalar bits. The math traits (`Ieee`, `IeeeCmp`, `Ieee3`, `Byte`, in
 //! `math/ieee.rs`) are implemented here for the lanes, so that each formula is written once,
 //! generic over one f32 and four lanes (ARCHITECTURE.md lists them). The lanes pay for
-//! themselves: the target scene takes 284.2 x86 instructions a pixel with them, 597.4 built as
+//! themselves: the target scene takes 287.9 x86 instructions a pixel with them, 672.7 built as
 //! the Cortex-M path (`bench/instructions.sh`, and with `MICRORAY_HOST_AS=m4f`).
 
 #[cfg(lanes)]
