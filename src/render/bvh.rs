@@ -362,9 +362,10 @@ impl<const S: usize> Bvh<S> {
     }
 }
 
-/// [`Bvh::find_from`]'s question to sphere `j` (not `hit`'s own): its hit along `d` from `hit`,
-/// which replaces `best` where the brute-force loop's order would let it win, and then limits
-/// the walk. A function, not a closure called from two places, so that it is inlined in both.
+/// [`Bvh::find_from`]'s question to sphere `j`: its hit along `d` from `hit` (none for `hit`'s
+/// own sphere, which `leaving_own` answered), which replaces `best` where the brute-force loop's
+/// order would let it win, and then limits the walk. A function, not a closure called from two
+/// places, so that it is inlined in both.
 #[inline(always)]
 fn ask<'s, const S: usize>(
     spheres: &'s [Sphere],
