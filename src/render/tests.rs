@@ -52,9 +52,49 @@ mod lane_tests {
 
 #[cfg(all(test, lanes))]
 mod pile_tests {
-    use super::super::lanes::nearest_root;
+    use super::super::lanes::{nearest_root, sort_by_f32};
     use crate::math::TestRng;
     use crate::Sphere;
+
+    /// `sort_by_f32` (a deep pile's sort) orders as a stable sort by `f32::total_cmp` does:
+    /// negative and positive zeros, infinities, NaNs of both signs, subnormals, keys that
+    /// differ in one bit of any byte, many repeats, and none.
+    #[test]
+    fn pile_sort_is_a_stable_total_order() {
+        let mut rng = TestRng(0x0051_ACE5);
+        let special = [
+            0.0,
+            -0.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+            f32::MIN_POSITIVE,
+            1e-45,
+            -1e-45,
+            f32::MAX,
+            f32::MIN,
+            1.0,
+            -1.0,
+        ];
+        for n in [0, 1, 2, 13, 200, 3_000] {
+            let keys: std::vec::Vec<f32> = (0..n)
+                .map(|i| match rng.next() % 4 {
+                    0 => special[i % special.len()],
+                    // A key one bit from another in any of its bytes.
+                    1 => f32::from_bits(10.0f32.to_bits() ^ (1 << (rng.next() % 32))),
+                    2 => (rng.next() % 5) as f32,
+                    _ => (rng.unit() - 0.5) * 100.0,
+                })
+                .collect();
+            let mut want: std::vec::Vec<usize> = (0..n).collect();
+            want.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
+            let mut got: std::vec::Vec<usize> = (0..n).collect();
+            let mut scratch = std::vec![0; n];
+            sort_by_f32(&mut got, &mut scratch, |&s| keys[s]);
+            assert_eq!(got, want, "{keys:?}");
+        }
+    }
 
     /// `nearest_root` bounds every root `Prepared::hit` finds, for directions of any length
     /// up to `d_max`: head-on rays (whose root is the bound before its margin, so that rounding
