@@ -78,7 +78,7 @@ mod pile_tests {
             -1.0,
         ];
         for n in [0, 1, 2, 13, 200, 3_000] {
-            let keys: std::vec::Vec<f32> = (0..n)
+            let keys: heapless::Vec<f32, 3_000> = (0..n)
                 .map(|i| match rng.next() % 4 {
                     0 => special[i % special.len()],
                     // A key one bit from another in any of its bytes.
@@ -87,12 +87,14 @@ mod pile_tests {
                     _ => (rng.unit() - 0.5) * 100.0,
                 })
                 .collect();
-            let mut want: std::vec::Vec<usize> = (0..n).collect();
-            want.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
-            let mut got: std::vec::Vec<usize> = (0..n).collect();
-            let mut scratch = std::vec![0; n];
-            sort_by_f32(&mut got, &mut scratch, |&s| keys[s]);
-            assert_eq!(got, want, "{keys:?}");
+            // A stable sort: equal keys by index.
+            let mut want: heapless::Vec<u16, 3_000> = (0..n as u16).collect();
+            let key = |s: u16| keys[usize::from(s)];
+            want.sort_unstable_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
+            let mut got: heapless::Vec<u16, 3_000> = (0..n as u16).collect();
+            let mut scratch = [0u16; 3_000];
+            sort_by_f32(&mut got, &mut scratch, |&s| key(s));
+            assert_eq!(got, want, "n {n}");
         }
     }
 

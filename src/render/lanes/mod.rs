@@ -349,6 +349,10 @@ pub(super) fn sort_by_f32<T: Copy>(items: &mut [T], scratch: &mut [T], key: impl
             b | 1 << 31
         }
     };
+    // Room past the items is left alone; less room never comes (the caller sizes it).
+    let Some(scratch) = scratch.get_mut(..items.len()) else {
+        return;
+    };
     for pass in 0..4 {
         // From `items` into `scratch` and back: the fourth pass lands in `items`.
         let (from, to) = if pass % 2 == 0 {
