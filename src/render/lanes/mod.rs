@@ -73,7 +73,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// its pile is sorted with no sort of its own, and [`Frame::trace_lanes`] meets each
     /// pixel's front sphere early and stops where every sphere left lies beyond every hit so
     /// far. Out of scene order, every span of the tile then takes the pile's tie rule
-    /// (`Cull::piled`), which decides equal keys by index: their order is free.
+    /// (`primary::wins`, with `Spheres::sorted` set), which decides equal roots by index: the
+    /// order of equal keys is free.
     ///
     /// The list is sorted by a radix sort of the keys' bits ([`sort_by_f32`]): four byte-wide
     /// passes over a tile's thousands of spheres, instead of a sort by comparisons that
