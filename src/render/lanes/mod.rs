@@ -84,8 +84,6 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let pile = self.tables.pile;
         let Spheres { row, span, .. } = &mut cull.spheres;
         // The span's list is scratch: it is drawn again below.
-        span.clear();
-        let _ = span.resize(row.len(), SphereId::NONE);
         sort_by_f32(row, span, |s| pile.get(s.index()).copied().unwrap_or(0.0));
         cull.spheres.sorted = true;
         self.index_row(cull);
@@ -336,10 +334,14 @@ fn meets_rows(b: &PixelBox, j: u32, last: u32) -> bool {
 }
 
 /// Sorts `items` by `key` in [`f32::total_cmp`]'s order, equal keys in their order, with
-/// `scratch` (at least as long) as room: a radix sort of the keys' bits, a byte a pass from
-/// the low one, each pass stable. Four passes over the items, where a sort by comparisons
-/// takes about log₂ n and fetches two keys for each comparison.
-pub(super) fn sort_by_f32<T: Copy>(items: &mut [T], scratch: &mut [T], key: impl Fn(&T) -> f32) {
+/// `scratch` (whatever it held, overwritten) as room: a radix sort of the keys' bits, a byte a
+/// pass from the low one, each pass stable. Four passes over the items, where a sort by
+/// comparisons takes about log₂ n and fetches two keys for each comparison.
+pub(super) fn sort_by_f32<T: Copy, const N: usize>(
+    items: &mut heapless::Vec<T, N>,
+    scratch: &mut heapless::Vec<T, N>,
+    key: impl Fn(&T) -> f32,
+) {
     // The bits as unsigned integers in `total_cmp`'s order: negatives reversed below the
     // positives.
     let bits = |x: &T| {
@@ -350,16 +352,15 @@ pub(super) fn sort_by_f32<T: Copy>(items: &mut [T], scratch: &mut [T], key: impl
             b | 1 << 31
         }
     };
-    // Room past the items is left alone; less room never comes (the caller sizes it).
-    let Some(scratch) = scratch.get_mut(..items.len()) else {
-        return;
-    };
+    // As long as the items: the same capacity, so the copy cannot fail.
+    scratch.clear();
+    let _ = scratch.extend_from_slice(items);
     for pass in 0..4 {
         // From `items` into `scratch` and back: the fourth pass lands in `items`.
         let (from, to) = if pass % 2 == 0 {
-            (&*items, &mut *scratch)
+            (&items[..], &mut scratch[..])
         } else {
-            (&*scratch, &mut *items)
+            (&scratch[..], &mut items[..])
         };
         let byte = |x: &T| (bits(x) >> (8 * pass)) as usize & 0xff;
         // Where each byte's items go: the counts of the smaller bytes.
