@@ -74,7 +74,7 @@
 //!     position = [3, 5, 4]
 //!     "#,
 //! )?;
-//! // The desktop capacity (16 384 spheres, 32 lights) takes 15.1 MB of tables: each
+//! // The desktop capacity (16 384 spheres, 32 lights) takes 15.4 MB of tables: each
 //! // boxed on the heap.
 //! let mut storage = FrameStorage::on_heap();
 //! let frame = Frame::new(&file.scene, &file.camera, file.options, &mut storage)?;

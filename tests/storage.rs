@@ -20,7 +20,7 @@ fn render<const S: usize>(
 
 /// The small stack of a frame at `Scene<1024, 32>`: 64 KiB, or 256 KiB unoptimised (whose
 /// frames are larger); it needs about 31 KiB (111 KiB unoptimised). Either is a fraction of the
-/// storage's 0.95 MB, which so cannot be on it.
+/// storage's 0.97 MB, which so cannot be on it.
 const SMALL_STACK: usize = if cfg!(debug_assertions) {
     256 << 10
 } else {
@@ -31,7 +31,7 @@ const SMALL_STACK: usize = if cfg!(debug_assertions) {
 /// unoptimised. The per-row candidate lists are sized by the capacity, about 8.75 bytes a
 /// sphere on hosts (`Cull`'s three lists of two-byte sphere ids and `Found`'s one, 140 KiB
 /// at 16384 spheres), so a frame needs about 147 KiB of stack (366 KiB unoptimised): more than
-/// [`SMALL_STACK`], and still a fraction of the storage's 15.1 MB.
+/// [`SMALL_STACK`], and still a fraction of the storage's 15.4 MB.
 const DESKTOP_STACK: usize = if cfg!(debug_assertions) {
     512 << 10
 } else {
@@ -39,7 +39,7 @@ const DESKTOP_STACK: usize = if cfg!(debug_assertions) {
 };
 
 /// Storage on the heap, each table in a box of its own: `on_heap` puts no storage-sized value
-/// on the stack, even unoptimised (`Box::new(FrameStorage::new())` would, 15.1 MB at the
+/// on the stack, even unoptimised (`Box::new(FrameStorage::new())` would, 15.4 MB at the
 /// desktop capacity).
 fn storage<const S: usize>() -> FrameStorage<S, { scene_file::LIGHTS }, Heap> {
     FrameStorage::on_heap()

@@ -221,7 +221,7 @@ const SMALL: usize = 1024;
 /// leaves its threads' start out likewise). They wait for the start spinning, with `yield_now`
 /// so that a thread sharing their CPU still runs, because a parked thread would take that
 /// latency again to wake. Each builds its own `Frame` (~0.1 ms, in parallel), so no frame has to
-/// be moved to where the threads can borrow it (15.1 MB at this capacity). This thread does not
+/// be moved to where the threads can borrow it (15.4 MB at this capacity). This thread does not
 /// render with them: a worker it spawned was queued on its CPU, and the two took as long as one
 /// thread alone (1.38× one over 21 interleaved runs instead of 1.85×). The last worker to
 /// finish notes the time, which ends the clock, and unparks it: waiting in `join`, or spinning

@@ -64,6 +64,8 @@ mod rows;
 #[cfg(not(lanes))]
 mod scalar;
 mod shade;
+#[cfg(lanes)]
+mod sort;
 mod storage;
 mod sweep;
 #[cfg(test)]
@@ -81,6 +83,8 @@ use primary::wins;
 pub use rows::*;
 #[cfg(not(lanes))]
 use scalar::{Found, PathState};
+#[cfg(lanes)]
+use sort::radix_sort;
 pub use storage::*;
 use sweep::*;
 

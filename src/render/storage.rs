@@ -9,8 +9,8 @@ use super::*;
 /// its shadow candidates; and (above 48 spheres, for scenes with mirrors or glass) the
 /// hierarchy that culls secondary rays.
 ///
-/// Its size grows with the capacity `S × L` of the scene (about 0.95 MB at `Scene<1024, 32>`,
-/// 15.1 MB at `Scene<16384, 32>`, a few hundred bytes at `Scene<8, 2>`), so the caller chooses
+/// Its size grows with the capacity `S × L` of the scene (about 0.97 MB at `Scene<1024, 32>`,
+/// 15.4 MB at `Scene<16384, 32>`, a few hundred bytes at `Scene<8, 2>`), so the caller chooses
 /// where it lives: on the heap on a desktop ([`FrameStorage::on_heap`], each table boxed on
 /// its own; `Box::new(FrameStorage::new())` only where an unoptimised build may hold the
 /// whole storage on the stack first), in a `static` or on the stack of a microcontroller
@@ -45,6 +45,9 @@ pub struct FrameStorage<const S: usize, const L: usize, P: Place = Inline> {
     /// Where a sweep is sorted before it is split into its fields (`Sweep::fill`): one for
     /// all the lights, so that no capacity-sized list is built on the stack.
     pub(super) entries: P::Slot<heapless::Vec<Entry, S>>,
+    /// The room of a sweep's radix sort (hosts): as many entries again.
+    #[cfg(lanes)]
+    pub(super) sort_room: P::Slot<SortRoom<S>>,
     /// Every sphere's index: the candidate list of a shadow ray that must test them all, so
     /// that every shadow ray walks a plain slice.
     pub(super) all: P::Slot<List<S>>,
@@ -154,6 +157,8 @@ impl<const S: usize, const L: usize> FrameStorage<S, L, Inline> {
         sweeps: InlineSlot([const { Sweep::empty() }; L]),
         swept: 0,
         entries: InlineSlot(heapless::Vec::new()),
+        #[cfg(lanes)]
+        sort_room: InlineSlot(heapless::Vec::new()),
         all: InlineSlot(heapless::Vec::new()),
         near: InlineSlot(heapless::Vec::new()),
         #[cfg(lanes)]
@@ -166,7 +171,7 @@ impl<const S: usize, const L: usize> FrameStorage<S, L, Inline> {
 
 #[cfg(feature = "std")]
 impl<const S: usize, const L: usize> FrameStorage<S, L, Heap> {
-    /// Empty storage whose tables are each on the heap (about 15.1 MB at `<16384, 32>`, the
+    /// Empty storage whose tables are each on the heap (about 15.4 MB at `<16384, 32>`, the
     /// desktop capacity): the storage itself is a few pointers. An unoptimised build copies
     /// each empty table through the stack on its way into its box, one at a time (at most
     /// 0.4 MB at the desktop capacity), where `Box::new(FrameStorage::new())` builds the whole
@@ -185,6 +190,8 @@ impl<const S: usize, const L: usize> FrameStorage<S, L, Heap> {
             sweeps: boxed_array(),
             swept: 0,
             entries: boxed(),
+            #[cfg(lanes)]
+            sort_room: boxed(),
             all: boxed(),
             near: boxed(),
             #[cfg(lanes)]
@@ -287,7 +294,12 @@ impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
             if scene.shadows() && sweeps {
                 if let Some(sweep) = self.sweeps.get_mut(self.swept) {
                     sweep.clear();
-                    sweep.fill(light, scene.spheres(), axes.0, axes.1, &mut self.entries);
+                    #[cfg(lanes)]
+                    let room = &mut *self.sort_room;
+                    #[cfg(not(lanes))]
+                    let room = &mut ();
+                    let (spheres, all) = (scene.spheres(), &mut *self.entries);
+                    sweep.fill(light, spheres, axes.0, axes.1, all, room);
                     self.swept += 1;
                 }
             }

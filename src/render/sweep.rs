@@ -147,6 +147,13 @@ impl Entry {
     }
 }
 
+/// The room of a sweep's radix sort (hosts; [`Sweep::sort`]): as many entries as it sorts.
+#[cfg(lanes)]
+pub(super) type SortRoom<const S: usize> = heapless::Vec<Entry, S>;
+/// Microcontrollers sort by comparisons, without room.
+#[cfg(not(lanes))]
+pub(super) type SortRoom<const S: usize> = ();
+
 /// What a scan asks of a sweep's entries, for shadow rays from one ball ([`Sweep::band`]).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Band {
@@ -228,6 +235,7 @@ impl<const S: usize> Sweep<S> {
         u: Vec3,
         v: Vec3,
         all: &mut heapless::Vec<Entry, S>,
+        room: &mut SortRoom<S>,
     ) {
         // Keys across the light's direction (`LightKind::sweep_along`, else the view's),
         // where they spread the spheres the most.
@@ -275,58 +283,91 @@ impl<const S: usize> Sweep<S> {
             let _ = self.wide.push(e.sphere);
         }
         all.retain(|e| !is_wide(e));
-        self.arrange(all);
+        self.arrange(all, room);
     }
 
     /// Fills the sorted fields from `all` (the spheres that are not wide), which it sorts, and
     /// indexes them.
-    pub(super) fn arrange(&mut self, all: &mut heapless::Vec<Entry, S>) {
-        all.sort_unstable_by(|a, b| a.key.total_cmp(&b.key));
-        // At most S entries in all: none of the pushes can fail.
-        for e in all.iter() {
-            let _ = self.key.push(e.key);
-            let _ = self.half.push(e.half);
-            let _ = self.key2.push(e.key2);
-            let _ = self.depth.push(e.depth);
-            let _ = self.sphere.push(e.sphere);
-            self.hw_max = self.hw_max.max(e.half);
-        }
+    pub(super) fn arrange(&mut self, all: &mut heapless::Vec<Entry, S>, room: &mut SortRoom<S>) {
+        self.sort(all, false, |e| e.key, room);
+        self.fill_fields(all);
+        self.hw_max = all.iter().fold(self.hw_max, |m, e| m.max(e.half));
         let n = all.len();
         if cfg!(lanes) && n >= SLABS_FROM {
             // About √n / 2 slabs of 2√n entries: a search meets a slab or two, and in each
             // the entries of its window of `key2`.
             self.index((libm::sqrtf(n as f32) * 0.5) as usize);
             self.slabs = true;
-            self.sort_slabs(all);
+            self.sort_slabs(all, room);
         } else {
             self.index((n / 4).max(1));
         }
     }
 
-    /// Sorts each bucket's entries by `key2` (through `all`, the entries in key order): the
-    /// buckets stay where they are, a bucket being a run of keys (`bucket` is monotonic).
-    fn sort_slabs(&mut self, all: &mut heapless::Vec<Entry, S>) {
-        for b in 0..usize::from(self.buckets) {
-            let (Some(&lo), Some(&hi)) = (self.start.get(b), self.start.get(b + 1)) else {
-                continue;
-            };
-            let Some(run) = all.get_mut(lo as usize..hi as usize) else {
-                continue;
-            };
-            run.sort_unstable_by(|a, b| a.key2.total_cmp(&b.key2));
-        }
+    /// The sorted fields, from `all`: at most S entries, so none of the pushes can fail.
+    fn fill_fields(&mut self, all: &[Entry]) {
         self.key.clear();
         self.half.clear();
         self.key2.clear();
         self.depth.clear();
         self.sphere.clear();
-        for e in all.iter() {
+        for e in all {
             let _ = self.key.push(e.key);
             let _ = self.half.push(e.half);
             let _ = self.key2.push(e.key2);
             let _ = self.depth.push(e.depth);
             let _ = self.sphere.push(e.sphere);
         }
+    }
+
+    /// Sorts `all` by `key`, or with `slabs` each slab's run of it (as `start` marks them): on
+    /// hosts by a radix sort ([`radix_sort`]) through `room`, elsewhere by comparisons (no
+    /// count table of 1 KiB on a microcontroller's stack, nor room in its RAM). Equal keys come
+    /// in any order: a scan decides each entry by its keys, not by where it lies among equal
+    /// ones.
+    fn sort(
+        &self,
+        all: &mut [Entry],
+        slabs: bool,
+        key: impl Fn(&Entry) -> f32 + Copy,
+        room: &mut SortRoom<S>,
+    ) {
+        let n = all.len();
+        let runs = if slabs { usize::from(self.buckets) } else { 1 };
+        let run = |b: usize| match slabs {
+            false => Some((0, n)),
+            true => Some((
+                usize::from(*self.start.get(b)?),
+                usize::from(*self.start.get(b + 1)?),
+            )),
+        };
+        #[cfg(lanes)]
+        {
+            // As long as `all`: of the same capacity, so the copy cannot fail.
+            room.clear();
+            let _ = room.extend_from_slice(all);
+            for b in 0..runs {
+                if let Some(items) = run(b).and_then(|(lo, hi)| all.get_mut(lo..hi)) {
+                    radix_sort(items, &mut room[..], key);
+                }
+            }
+        }
+        #[cfg(not(lanes))]
+        {
+            let _ = room;
+            for b in 0..runs {
+                if let Some(items) = run(b).and_then(|(lo, hi)| all.get_mut(lo..hi)) {
+                    items.sort_unstable_by(|x, y| key(x).total_cmp(&key(y)));
+                }
+            }
+        }
+    }
+
+    /// Sorts each bucket's entries by `key2` (through `all`, the entries in key order): the
+    /// buckets stay where they are, a bucket being a run of keys (`bucket` is monotonic).
+    fn sort_slabs(&mut self, all: &mut heapless::Vec<Entry, S>, room: &mut SortRoom<S>) {
+        self.sort(all, true, |e| e.key2, room);
+        self.fill_fields(all);
         #[cfg(lanes)]
         self.index_slabs();
     }

@@ -52,15 +52,17 @@ mod lane_tests {
 
 #[cfg(all(test, lanes))]
 mod pile_tests {
-    use super::super::lanes::{nearest_root, sort_by_f32};
+    use super::super::lanes::nearest_root;
+    use super::super::radix_sort;
     use crate::math::TestRng;
     use crate::Sphere;
 
-    /// `sort_by_f32` (a deep pile's sort) orders as a stable sort by `f32::total_cmp` does:
-    /// negative and positive zeros, infinities, NaNs of both signs, subnormals, keys that
-    /// differ in one bit of any byte, many repeats, and none.
+    /// `radix_sort` (a deep pile's sort, and a sweep's) orders as a stable sort by
+    /// `f32::total_cmp` does: negative and positive zeros, infinities, NaNs of both signs,
+    /// subnormals, keys that differ in one bit of any byte, many repeats, and none; with more
+    /// room than items (its values past them unread), and with too little (by comparisons).
     #[test]
-    fn pile_sort_is_a_stable_total_order() {
+    fn radix_sort_is_a_stable_total_order() {
         let mut rng = TestRng(0x0051_ACE5);
         let special = [
             0.0,
@@ -77,7 +79,7 @@ mod pile_tests {
             1.0,
             -1.0,
         ];
-        for n in [0, 1, 2, 13, 200, 3_000] {
+        for n in [0, 1, 2, 13, 63, 64, 200, 3_000] {
             let keys: heapless::Vec<f32, 3_000> = (0..n)
                 .map(|i| match rng.next() % 4 {
                     0 => special[i % special.len()],
@@ -92,9 +94,18 @@ mod pile_tests {
             let key = |s: u16| keys[usize::from(s)];
             want.sort_unstable_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
             let mut got: heapless::Vec<u16, 3_000> = (0..n as u16).collect();
-            let mut scratch = heapless::Vec::new();
-            sort_by_f32(&mut got, &mut scratch, |&s| key(s));
+            let mut room = [u16::MAX; 3_001];
+            radix_sort(&mut got, &mut room[..], |&s| key(s));
             assert_eq!(got, want, "n {n}");
+            // Too little room: the same keys in order, equal ones in any.
+            let mut got: heapless::Vec<u16, 3_000> = (0..n as u16).collect();
+            radix_sort(&mut got, &mut room[..n.saturating_sub(1)], |&s| key(s));
+            let bits = |v: &[u16]| {
+                v.iter()
+                    .map(|&s| key(s).to_bits())
+                    .collect::<heapless::Vec<u32, 3_000>>()
+            };
+            assert_eq!(bits(&got), bits(&want), "n {n}, little room");
         }
     }
 
@@ -310,7 +321,7 @@ mod slab_tests {
             let entries = all.clone();
             let mut w: Box<Sweep<8192>> = Box::new(Sweep::empty());
             w.hw_max = entries.iter().map(|e| e.half).fold(0.0, f32::max);
-            w.arrange(&mut all);
+            w.arrange(&mut all, &mut Box::new(heapless::Vec::new()));
             assert_eq!(w.slabs, n >= SLABS_FROM, "case {case}");
             // Slabs come with their index by `key2`, not a binary search each.
             assert_eq!(w.by_key2.per_slab > 0, w.slabs, "case {case}");

@@ -153,7 +153,7 @@ fn run(args: Args) -> Result<(), Failure> {
         .view
         .camera(w, h)
         .map_err(|e| Failure(2, format!("--size {w}x{h}: {e}")))?;
-    // The desktop capacity's per-frame tables (15.1 MB): on the heap, filled anew each frame.
+    // The desktop capacity's per-frame tables (15.4 MB): on the heap, filled anew each frame.
     let mut storage = FrameStorage::on_heap();
     let mut display = SimulatorDisplay::<Rgb888>::new(args.size);
     match &args.headless {

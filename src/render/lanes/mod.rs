@@ -76,15 +76,20 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// (`primary::wins`, with `Spheres::sorted` set), which decides equal roots by index: the
     /// order of equal keys is free.
     ///
-    /// The list is sorted by a radix sort of the keys' bits ([`sort_by_f32`]): four byte-wide
+    /// The list is sorted by a radix sort of the keys' bits ([`radix_sort`]): four byte-wide
     /// passes over a tile's thousands of spheres, instead of a sort by comparisons that
     /// fetches two keys for each of about log₂ n passes.
     #[inline(never)]
     fn sort_piles(&self, cull: &mut Cull<S, L>) {
         let pile = self.tables.pile;
         let Spheres { row, span, .. } = &mut cull.spheres;
-        // The span's list is scratch: it is drawn again below.
-        sort_by_f32(row, span, |s| pile.get(s.index()).copied().unwrap_or(0.0));
+        // The span's list is the sort's room (of the same capacity: the resize cannot fail):
+        // it is drawn again below.
+        span.clear();
+        let _ = span.resize(row.len(), SphereId::NONE);
+        radix_sort(row, &mut span[..], |s| {
+            pile.get(s.index()).copied().unwrap_or(0.0)
+        });
         cull.spheres.sorted = true;
         self.index_row(cull);
         // The span's spheres drawn again from the sorted row: the same ones (those whose box
@@ -331,58 +336,6 @@ fn box_block(n: usize) -> usize {
 #[inline(always)]
 fn meets_rows(b: &PixelBox, j: u32, last: u32) -> bool {
     (b.j0 as u32).max(j) <= (b.j1 as u32).min(last)
-}
-
-/// Sorts `items` by `key` in [`f32::total_cmp`]'s order, equal keys in their order, with
-/// `scratch` (whatever it held, overwritten) as room: a radix sort of the keys' bits, a byte a
-/// pass from the low one, each pass stable. Four passes over the items, where a sort by
-/// comparisons takes about log₂ n and fetches two keys for each comparison.
-pub(super) fn sort_by_f32<T: Copy, const N: usize>(
-    items: &mut heapless::Vec<T, N>,
-    scratch: &mut heapless::Vec<T, N>,
-    key: impl Fn(&T) -> f32,
-) {
-    // The bits as unsigned integers in `total_cmp`'s order: negatives reversed below the
-    // positives.
-    let bits = |x: &T| {
-        let b = key(x).to_bits();
-        if b >> 31 == 1 {
-            !b
-        } else {
-            b | 1 << 31
-        }
-    };
-    // As long as the items: the same capacity, so the copy cannot fail.
-    scratch.clear();
-    let _ = scratch.extend_from_slice(items);
-    for pass in 0..4 {
-        // From `items` into `scratch` and back: the fourth pass lands in `items`.
-        let (from, to) = if pass % 2 == 0 {
-            (&items[..], &mut scratch[..])
-        } else {
-            (&scratch[..], &mut items[..])
-        };
-        let byte = |x: &T| (bits(x) >> (8 * pass)) as usize & 0xff;
-        // Where each byte's items go: the counts of the smaller bytes.
-        let mut at = [0usize; 256];
-        for x in from {
-            if let Some(a) = at.get_mut(byte(x)) {
-                *a += 1;
-            }
-        }
-        let mut sum = 0;
-        for a in at.iter_mut() {
-            (*a, sum) = (sum, sum + *a);
-        }
-        for x in from {
-            if let Some(a) = at.get_mut(byte(x)) {
-                if let Some(slot) = to.get_mut(*a) {
-                    *slot = *x;
-                }
-                *a += 1;
-            }
-        }
-    }
 }
 
 /// The most blocks the frame's boxes are split into ([`index_boxes`]).

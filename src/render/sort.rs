@@ -1,0 +1,95 @@
+//! The frame's sorts of many items by an f32 key on hosts: a deep tile's spheres (`lanes`) and
+//! a light's sweep (`sweep`). A radix sort of the keys' bits: four byte-wide passes over the
+//! items, where a sort by comparisons takes about log₂ n passes and fetches two keys for each
+//! comparison.
+
+/// Below this many items an insertion sort, which needs no room and costs less than four passes
+/// over 256 counts.
+const RADIX_FROM: usize = 64;
+
+/// Sorts `items` by `key` in [`f32::total_cmp`]'s order, equal keys in their order: a radix sort
+/// of the keys' bits, a byte a pass from the low one, each pass stable, from the items into
+/// `room` (whatever it held, overwritten) and back; below [`RADIX_FROM`] items an insertion
+/// sort. With less room than items it sorts them by comparisons instead, equal keys then in
+/// any order (no caller gives less).
+pub(super) fn radix_sort<T: Copy>(items: &mut [T], room: &mut [T], key: impl Fn(&T) -> f32) {
+    let n = items.len();
+    if n < RADIX_FROM {
+        for i in 1..n {
+            let mut j = i;
+            while j > 0 {
+                let (Some(a), Some(b)) = (items.get(j - 1), items.get(j)) else {
+                    break;
+                };
+                if !key(a).total_cmp(&key(b)).is_gt() {
+                    break;
+                }
+                items.swap(j - 1, j);
+                j -= 1;
+            }
+        }
+        return;
+    }
+    if room.len() < n {
+        items.sort_unstable_by(|a, b| key(a).total_cmp(&key(b)));
+        return;
+    }
+    // The bits as unsigned integers in `total_cmp`'s order: negatives reversed below the
+    // positives.
+    let bits = |x: &T| {
+        let b = key(x).to_bits();
+        if b >> 31 == 1 {
+            !b
+        } else {
+            b | 1 << 31
+        }
+    };
+    for pass in 0..4 {
+        let byte = |x: &T| (bits(x) >> (8 * pass)) as usize & 0xff;
+        // Where each byte's items go: the counts of the smaller bytes.
+        let mut at = [0usize; 256];
+        // From `items` into `room` and back: the fourth pass lands in `items`.
+        if pass % 2 == 0 {
+            for x in items.iter() {
+                if let Some(a) = at.get_mut(byte(x)) {
+                    *a += 1;
+                }
+            }
+            starts(&mut at);
+            for x in items.iter() {
+                if let Some(a) = at.get_mut(byte(x)) {
+                    if let Some(slot) = room.get_mut(*a) {
+                        *slot = *x;
+                    }
+                    *a += 1;
+                }
+            }
+        } else {
+            // Only the items' length of it: the rest is not theirs.
+            let from = room.get(..n).unwrap_or(&[]);
+            for x in from {
+                if let Some(a) = at.get_mut(byte(x)) {
+                    *a += 1;
+                }
+            }
+            starts(&mut at);
+            for &x in from {
+                if let Some(a) = at.get_mut(byte(&x)) {
+                    if let Some(slot) = items.get_mut(*a) {
+                        *slot = x;
+                    }
+                    *a += 1;
+                }
+            }
+        }
+    }
+}
+
+/// Counts to the first position of each byte's items: the sum of the counts before it.
+#[inline(always)]
+fn starts(at: &mut [usize; 256]) {
+    let mut sum = 0;
+    for a in at.iter_mut() {
+        (*a, sum) = (sum, sum + *a);
+    }
+}
