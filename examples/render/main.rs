@@ -220,8 +220,12 @@ const SMALL: usize = 1024;
 /// idle vCPU has to be woken), program start-up rather than rendering (POV-Ray's trace time
 /// leaves its threads' start out likewise). They wait for the start spinning, with `yield_now`
 /// so that a thread sharing their CPU still runs, because a parked thread would take that
-/// latency again to wake. Each builds its own `Frame` (~0.1 ms, in parallel), so no frame has to
-/// be moved to where the threads can borrow it (15.4 MB at this capacity). This thread does not
+/// latency again to wake. For a scene of more than [`SMALL`] spheres the first worker builds the
+/// one `Frame` they all render, in storage allocated before the clock, while the others spin
+/// until it is there: one storage for any number of threads (15.4 MB at the desktop capacity,
+/// which a frame per thread would multiply), built once (frames built by every thread at once
+/// compete for memory and its first touch). A smaller scene's workers each build their own frame
+/// (~0.1 ms, in parallel), which is sooner than waiting for a shared one. This thread does not
 /// render with them: a worker it spawned was queued on its CPU, and the two took as long as one
 /// thread alone (1.38× one over 21 interleaved runs instead of 1.85×). The last worker to
 /// finish notes the time, which ends the clock, and unparks it: waiting in `join`, or spinning
@@ -256,22 +260,32 @@ fn render<const S: usize, const L: usize>(
     // When the last worker finished: the frame's end, which this thread learns of later.
     let end = Mutex::new(None::<Instant>);
     let waiter = std::thread::current();
+    // The frame's tables on the heap, allocated before the clock; the frame the workers share,
+    // and whether its build panicked.
+    let mut shared = FrameStorage::on_heap();
+    let (frame, broken) = (std::sync::OnceLock::new(), AtomicBool::new(false));
     std::thread::scope(|s| {
         if threads == 1 {
-            // The per-frame tables on the heap, allocated before the clock, and the stack the
-            // render will use, written once.
-            let mut storage = FrameStorage::on_heap();
+            // The stack the render will use, written once.
             touch_stack();
             let start = Instant::now();
-            let made = Frame::new(scene, camera, options, &mut storage);
+            let made = Frame::new(scene, camera, options, &mut shared);
             made.as_ref().map(work).map_err(|&e| failed(e))?;
             return Ok((start.elapsed().as_secs_f64() * 1e3, None));
         }
         let pool = Instant::now();
         let mut spawned = Vec::with_capacity(workers);
+        // The shared storage, for the first worker to build the frame in.
+        let share = scene.spheres().len() > SMALL;
+        let mut storage = share.then_some(&mut shared);
         for _ in 0..workers {
-            let worker = std::thread::Builder::new().spawn_scoped(s, || {
-                let mut storage = FrameStorage::on_heap();
+            let builds = storage.take();
+            let (frame, broken, ready, state) = (&frame, &broken, &ready, &state);
+            let (left, end, waiter, work) = (&left, &end, &waiter, &work);
+            let worker = std::thread::Builder::new().spawn_scoped(s, move || {
+                // A small scene's worker builds its own frame, in its own storage (freed after
+                // `_finished` has ended the clock).
+                let mut own = (!share).then(FrameStorage::on_heap);
                 touch_stack();
                 ready.fetch_add(1, Ordering::Release);
                 loop {
@@ -289,8 +303,11 @@ fn render<const S: usize, const L: usize>(
                         waiter.unpark();
                     }
                 });
-                let made = Frame::new(scene, camera, options, &mut storage);
-                made.as_ref().map(work).map_err(|&e| e)
+                if let Some(storage) = own.as_mut() {
+                    let made = Frame::new(scene, camera, options, storage);
+                    return made.as_ref().map(work).map_err(|&e| e);
+                }
+                shared_frame(builds, frame, broken, (scene, camera, options), work)
             });
             match worker {
                 Ok(worker) => spawned.push(worker),
@@ -320,6 +337,42 @@ fn render<const S: usize, const L: usize>(
         }
         result.map_err(failed).map(|()| (ms, Some(pool_ms)))
     })
+}
+
+/// A worker's part where the workers share one frame ([`render`]): the frame built in `builds` by
+/// the worker given it, else waited for, spinning; then bands (`work`).
+fn shared_frame<'f, const S: usize, const L: usize>(
+    builds: Option<&'f mut FrameStorage<S, L, microray::render::Heap>>,
+    frame: &'f std::sync::OnceLock<Result<Frame<'f, S, L>, microray::Error>>,
+    broken: &AtomicBool,
+    (scene, camera, options): (
+        &'f microray::Scene<S, L>,
+        &'f microray::Camera,
+        RenderOptions,
+    ),
+    work: &impl Fn(&Frame<'_, S, L>),
+) -> Result<(), microray::Error> {
+    let made = match builds {
+        Some(storage) => {
+            // Were the build to panic, the others stop waiting for it.
+            let _broken = Finally(|| {
+                if frame.get().is_none() {
+                    broken.store(true, Ordering::Release);
+                }
+            });
+            frame.get_or_init(|| Frame::new(scene, camera, options, storage))
+        }
+        None => loop {
+            if let Some(made) = frame.get() {
+                break made;
+            }
+            if broken.load(Ordering::Acquire) {
+                return Ok(());
+            }
+            std::thread::yield_now();
+        },
+    };
+    made.as_ref().map(work).map_err(|&e| e)
 }
 
 /// Writes the stack a frame's render uses (its per-row candidate lists grow with the
