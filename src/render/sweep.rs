@@ -346,20 +346,17 @@ impl<const S: usize> Sweep<S> {
             // As long as `all`: of the same capacity, so the copy cannot fail.
             room.clear();
             let _ = room.extend_from_slice(all);
-            for b in 0..runs {
-                if let Some(items) = run(b).and_then(|(lo, hi)| all.get_mut(lo..hi)) {
-                    radix_sort(items, &mut room[..], key);
-                }
-            }
         }
         #[cfg(not(lanes))]
-        {
-            let _ = room;
-            for b in 0..runs {
-                if let Some(items) = run(b).and_then(|(lo, hi)| all.get_mut(lo..hi)) {
-                    items.sort_unstable_by(|x, y| key(x).total_cmp(&key(y)));
-                }
-            }
+        let _ = room;
+        for b in 0..runs {
+            let Some(items) = run(b).and_then(|(lo, hi)| all.get_mut(lo..hi)) else {
+                continue;
+            };
+            #[cfg(lanes)]
+            radix_sort(items, &mut room[..], key);
+            #[cfg(not(lanes))]
+            items.sort_unstable_by(|x, y| key(x).total_cmp(&key(y)));
         }
     }
 
