@@ -30,10 +30,11 @@ pub(super) fn radix_sort<T: Copy>(items: &mut [T], room: &mut [T], key: impl Fn(
         }
         return;
     }
-    if room.len() < n {
+    // Only the items' length of the room: the rest is not theirs.
+    let Some(room) = room.get_mut(..n) else {
         items.sort_unstable_by(|a, b| key(a).total_cmp(&key(b)));
         return;
-    }
+    };
     // The bits as unsigned integers in `total_cmp`'s order: negatives reversed below the
     // positives.
     let bits = |x: &T| {
@@ -45,41 +46,27 @@ pub(super) fn radix_sort<T: Copy>(items: &mut [T], room: &mut [T], key: impl Fn(
         }
     };
     for pass in 0..4 {
+        // From `items` into `room` and back: the fourth pass lands in `items`.
+        let (from, to) = if pass % 2 == 0 {
+            (&*items, &mut *room)
+        } else {
+            (&*room, &mut *items)
+        };
         let byte = |x: &T| (bits(x) >> (8 * pass)) as usize & 0xff;
         // Where each byte's items go: the counts of the smaller bytes.
         let mut at = [0usize; 256];
-        // From `items` into `room` and back: the fourth pass lands in `items`.
-        if pass % 2 == 0 {
-            for x in items.iter() {
-                if let Some(a) = at.get_mut(byte(x)) {
-                    *a += 1;
-                }
+        for x in from {
+            if let Some(a) = at.get_mut(byte(x)) {
+                *a += 1;
             }
-            starts(&mut at);
-            for x in items.iter() {
-                if let Some(a) = at.get_mut(byte(x)) {
-                    if let Some(slot) = room.get_mut(*a) {
-                        *slot = *x;
-                    }
-                    *a += 1;
+        }
+        starts(&mut at);
+        for x in from {
+            if let Some(a) = at.get_mut(byte(x)) {
+                if let Some(slot) = to.get_mut(*a) {
+                    *slot = *x;
                 }
-            }
-        } else {
-            // Only the items' length of it: the rest is not theirs.
-            let from = room.get(..n).unwrap_or(&[]);
-            for x in from {
-                if let Some(a) = at.get_mut(byte(x)) {
-                    *a += 1;
-                }
-            }
-            starts(&mut at);
-            for &x in from {
-                if let Some(a) = at.get_mut(byte(&x)) {
-                    if let Some(slot) = items.get_mut(*a) {
-                        *slot = x;
-                    }
-                    *a += 1;
-                }
+                *a += 1;
             }
         }
     }
