@@ -5,6 +5,9 @@
 #
 #   bench/ab.sh OLD_RENDER NEW_RENDER [N=21] [SCENE=bench/scenes/target.toml]
 #
+# Times the renderer's `render:` line; `LINE='scene file' bench/ab.sh ...` times another of its
+# `NAME: X ms` lines (`scene file:`, reading and checking the TOML).
+#
 # OLD_RENDER and NEW_RENDER are copies of target/release/examples/render built from the two
 # versions (e.g. `git stash; cargo build --release --example render; cp ... /tmp/old`).
 set -euo pipefail
@@ -13,7 +16,8 @@ a=$1 b=$2 n=${3:-21}
 scene=${4:-$(dirname "$0")/scenes/target.toml}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-ms() { "$1" "$scene" -o "$2" --threads 1 | sed -n 's/^render: \(.*\) ms$/\1/p'; }
+line=${LINE:-render}
+ms() { "$1" "$scene" -o "$2" --threads 1 | sed -n "s/^$line: \(.*\) ms\$/\1/p"; }
 for _ in $(seq "$n"); do
   ms "$a" "$out/a.png" >> "$out/a.txt"
   ms "$b" "$out/b.png" >> "$out/b.txt"

@@ -85,11 +85,13 @@ fn main() -> ExitCode {
 }
 
 fn run(args: Args) -> Result<(), Failure> {
+    let read = Instant::now();
     let file: Box<Desktop> = match &args.scene {
         Some(path) => scene_file::load(path),
         None => scene_file::parse(DEMO),
     }
     .map_err(|e| Failure(if e.io { 1 } else { 2 }, e.to_string()))?;
+    let mut read_ms = read.elapsed().as_secs_f64() * 1e3;
     let width = args.width.unwrap_or(file.width);
     let height = args.height.unwrap_or(file.height);
     let camera = file
@@ -148,12 +150,14 @@ fn run(args: Args) -> Result<(), Failure> {
 
     // A scene within `SMALL` spheres is read again at that capacity: its frame's tables and
     // per-row lists are then sized for it, not for the desktop's 16 384 (the same pixels).
+    let read = Instant::now();
     let small = (file.scene.spheres().len() <= SMALL)
         .then(|| match &args.scene {
             Some(path) => scene_file::load::<SMALL, { scene_file::LIGHTS }>(path),
             None => scene_file::parse(DEMO),
         })
         .and_then(Result::ok);
+    read_ms += read.elapsed().as_secs_f64() * 1e3;
     let (ms, pool_ms) = with_progress(height, |done| match &small {
         Some(small) => render(&small.scene, &camera, options, threads, &mut image, done),
         None => render(&file.scene, &camera, options, threads, &mut image, done),
@@ -161,6 +165,7 @@ fn run(args: Args) -> Result<(), Failure> {
 
     write_png(&args.output, width, height, &image)?;
     println!("wrote {} ({width}x{height})", args.output.display());
+    println!("scene file: {read_ms:.1} ms");
     println!("image buffer: {alloc_ms:.1} ms");
     if let Some(pool_ms) = pool_ms {
         println!("thread start-up: {pool_ms:.2} ms");
