@@ -65,6 +65,21 @@ impl<'a> LineIndex<'a> {
     }
 }
 
+/// The field an error names, `sphere[3].radius` (or `sphere[3]` without a key), written only
+/// when there is an error: a scene file of 16 384 spheres names seven fields a sphere.
+#[derive(Clone, Copy)]
+pub(super) struct Entry<'a>(pub(super) &'a str, pub(super) usize, pub(super) &'a str);
+
+impl core::fmt::Display for Entry<'_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let Entry(table, i, key) = *self;
+        match key {
+            "" => write!(f, "{table}[{i}]"),
+            _ => write!(f, "{table}[{i}].{key}"),
+        }
+    }
+}
+
 pub(super) struct Builder<'a> {
     pub(super) lines: &'a LineIndex<'a>,
 }
@@ -73,7 +88,7 @@ impl Builder<'_> {
     pub(super) fn err(
         &self,
         span: Range<usize>,
-        field: &str,
+        field: impl core::fmt::Display,
         message: impl ToString,
     ) -> SceneError {
         SceneError {
@@ -85,7 +100,11 @@ impl Builder<'_> {
         }
     }
 
-    pub(super) fn num(&self, v: &Spanned<f64>, field: &str) -> Result<f32, SceneError> {
+    pub(super) fn num(
+        &self,
+        v: &Spanned<f64>,
+        field: impl core::fmt::Display,
+    ) -> Result<f32, SceneError> {
         let x = *v.get_ref() as f32;
         if x.is_finite() {
             Ok(x)
@@ -94,7 +113,11 @@ impl Builder<'_> {
         }
     }
 
-    pub(super) fn vector(&self, v: &Spanned<Vector>, field: &str) -> Result<Vec3, SceneError> {
+    pub(super) fn vector(
+        &self,
+        v: &Spanned<Vector>,
+        field: impl core::fmt::Display,
+    ) -> Result<Vec3, SceneError> {
         let [x, y, z] = v.get_ref().0.map(|c| c as f32);
         let out = Vec3::new(x, y, z);
         if out.is_finite() {
@@ -108,7 +131,7 @@ impl Builder<'_> {
         &self,
         v: Option<&Spanned<Rgb>>,
         default: f32,
-        field: &str,
+        field: impl core::fmt::Display,
     ) -> Result<Color, SceneError> {
         let Some(v) = v else {
             return Ok(Color::splat(default));
@@ -127,7 +150,7 @@ impl Builder<'_> {
         v: Option<&Spanned<i64>>,
         default: i64,
         range: Range<i64>,
-        field: &str,
+        field: impl core::fmt::Display,
     ) -> Result<i64, SceneError> {
         match v {
             None => Ok(default),
@@ -244,24 +267,24 @@ impl Builder<'_> {
             ));
         }
         for (i, s) in raw.sphere.iter().enumerate() {
-            let f = |name: &str| format!("sphere[{i}].{name}");
+            let f = |name| Entry("sphere", i, name);
             let r = s.get_ref();
-            let center = self.vector(&r.center, &f("center"))?;
-            let radius = self.num(&r.radius, &f("radius"))?;
+            let center = self.vector(&r.center, f("center"))?;
+            let radius = self.num(&r.radius, f("radius"))?;
             let shininess = match &r.shininess {
-                Some(v) => self.num(v, &f("shininess"))?,
+                Some(v) => self.num(v, f("shininess"))?,
                 None => 32.0,
             };
             let ior = match &r.ior {
-                Some(v) => self.num(v, &f("ior"))?,
+                Some(v) => self.num(v, f("ior"))?,
                 None => 1.5,
             };
             let material = Material {
-                diffuse: self.color(r.diffuse.as_ref(), 1.0, &f("diffuse"))?,
-                specular: self.color(r.specular.as_ref(), 0.0, &f("specular"))?,
+                diffuse: self.color(r.diffuse.as_ref(), 1.0, f("diffuse"))?,
+                specular: self.color(r.specular.as_ref(), 0.0, f("specular"))?,
                 shininess,
-                mirror: self.color(r.mirror.as_ref(), 0.0, &f("mirror"))?,
-                refraction: self.color(r.refraction.as_ref(), 0.0, &f("refraction"))?,
+                mirror: self.color(r.mirror.as_ref(), 0.0, f("mirror"))?,
+                refraction: self.color(r.refraction.as_ref(), 0.0, f("refraction"))?,
                 ior,
             };
             scene
@@ -276,7 +299,7 @@ impl Builder<'_> {
                         Error::InvalidIor => (r.ior.as_ref().map_or(s.span(), |v| v.span()), "ior"),
                         _ => (s.span(), ""),
                     };
-                    self.err(span, f(name).trim_end_matches('.'), e)
+                    self.err(span, f(name), e)
                 })?;
         }
 
@@ -289,27 +312,27 @@ impl Builder<'_> {
             ));
         }
         for (i, l) in raw.light.iter().enumerate() {
-            let f = |name: &str| format!("light[{i}].{name}");
+            let f = |name| Entry("light", i, name);
             let r = l.get_ref();
-            let intensity = self.color(r.intensity.as_ref(), 1.0, &f("intensity"))?;
+            let intensity = self.color(r.intensity.as_ref(), 1.0, f("intensity"))?;
             let light = match r.kind.get_ref().as_str() {
                 "point" => {
                     if let Some(d) = &r.direction {
                         return Err(self.err(
                             d.span(),
-                            &f("direction"),
+                            f("direction"),
                             "not allowed for a point light",
                         ));
                     }
                     let p = r.position.as_ref().ok_or_else(|| {
                         self.err(
                             l.span(),
-                            &f("position"),
+                            f("position"),
                             "missing (a point light needs a position)",
                         )
                     })?;
                     Light::Point {
-                        position: self.vector(p, &f("position"))?,
+                        position: self.vector(p, f("position"))?,
                         intensity,
                     }
                 }
@@ -317,20 +340,20 @@ impl Builder<'_> {
                     if let Some(p) = &r.position {
                         return Err(self.err(
                             p.span(),
-                            &f("position"),
+                            f("position"),
                             "not allowed for a directional light",
                         ));
                     }
                     let d = r.direction.as_ref().ok_or_else(|| {
                         self.err(
                             l.span(),
-                            &f("direction"),
+                            f("direction"),
                             "missing (a directional light needs a direction)",
                         )
                     })?;
-                    let direction = self.vector(d, &f("direction"))?;
+                    let direction = self.vector(d, f("direction"))?;
                     if direction == Vec3::ZERO {
-                        return Err(self.err(d.span(), &f("direction"), Error::ZeroDirection));
+                        return Err(self.err(d.span(), f("direction"), Error::ZeroDirection));
                     }
                     Light::Directional {
                         direction,
@@ -340,14 +363,14 @@ impl Builder<'_> {
                 other => {
                     return Err(self.err(
                         r.kind.span(),
-                        &f("kind"),
+                        f("kind"),
                         format!("must be \"point\" or \"directional\", not {other:?}"),
                     ))
                 }
             };
             scene
                 .add_light(light)
-                .map_err(|e| self.err(l.span(), &format!("light[{i}]"), e))?;
+                .map_err(|e| self.err(l.span(), f(""), e))?;
         }
 
         file.keyframes = self.keyframes(&raw.keyframe, &view, (width, height))?;
@@ -375,10 +398,10 @@ impl Builder<'_> {
             _ => {}
         }
         for (i, k) in raw.iter().enumerate() {
-            let f = |name: &str| format!("keyframe[{i}].{name}");
+            let f = |name| Entry("keyframe", i, name);
             let r = k.get_ref();
             let vector = |v: &Option<Spanned<Vector>>, name, default| match v {
-                Some(v) => self.vector(v, &f(name)),
+                Some(v) => self.vector(v, f(name)),
                 None => Ok(default),
             };
             let view = View {
@@ -386,7 +409,7 @@ impl Builder<'_> {
                 look_at: vector(&r.look_at, "look_at", camera.look_at)?,
                 up: vector(&r.up, "up", camera.up)?,
                 vfov: match &r.vfov {
-                    Some(v) => self.num(v, &f("vfov"))?,
+                    Some(v) => self.num(v, f("vfov"))?,
                     None => camera.vfov,
                 },
             };
@@ -399,12 +422,26 @@ impl Builder<'_> {
                     Error::InvalidFov => (span(r.vfov.as_ref().map(|v| v.span())), "vfov"),
                     _ => (k.span(), ""),
                 };
-                self.err(s, f(name).trim_end_matches('.'), e)
+                self.err(s, f(name), e)
             })?;
             let at = *r.at.get_ref() as f32;
             keys.push(Keyframe { at, view })
-                .map_err(|e| self.err(r.at.span(), &f("at"), e))?;
+                .map_err(|e| self.err(r.at.span(), f("at"), e))?;
         }
         Ok(keys)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Entry;
+    use std::string::ToString;
+
+    /// A field of an entry, `sphere[3].radius`, and the entry alone (an error of the whole
+    /// `[[light]]` table) without a trailing dot.
+    #[test]
+    fn entries_are_named_as_the_file_writes_them() {
+        assert_eq!(Entry("sphere", 3, "radius").to_string(), "sphere[3].radius");
+        assert_eq!(Entry("light", 0, "").to_string(), "light[0]");
     }
 }
