@@ -464,7 +464,7 @@ fn syntax_errors_have_a_line() {
         "[[sphere]\ncenter = [0, 0, 0]\n",
         4,
         "sphere[0]",
-        "invalid table header",
+        "unclosed array table",
     );
     let err = parse_desktop("[camera]\neye = [0, 0, 5\nlook_at = [0, 0, 0]\n").unwrap_err();
     assert!(err.line.is_some(), "{err}");
