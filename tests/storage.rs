@@ -113,3 +113,39 @@ fn reused_storage_renders_as_fresh_storage() {
     let again = render(&big, &big_camera, &mut desktop_storage());
     assert!(render(&big, &big_camera, &mut storage) == again);
 }
+
+/// A scene read at the desktop capacity and copied into `Scene<1024, 32>` (as the desktop
+/// renderer renders a small scene) is the scene read at 1024, bit for bit, directional lights
+/// included (adding them again would normalise their directions twice), and renders its
+/// pixels; a copy that does not fit is an error that leaves the scene as it was.
+#[test]
+fn a_scene_copied_to_another_capacity_is_the_same_scene() {
+    let path = "bench/scenes/spread256_shaded.toml";
+    let (read, camera): (Box<SceneFile<1024, { scene_file::LIGHTS }>>, _) = load(path);
+    let (desktop, _): (Box<Desktop>, _) = load(path);
+    let mut copy: Box<microray::Scene<1024, { scene_file::LIGHTS }>> =
+        Box::new(microray::Scene::new());
+    copy.copy_from(&desktop.scene).unwrap();
+    assert_eq!(format!("{copy:?}"), format!("{:?}", read.scene));
+    let mut tables = storage();
+    let frame = Frame::new(&copy, &camera, read.options, &mut tables).unwrap();
+    let mut image = vec![Rgb888::new(0, 0, 0); (camera.width() * camera.height()) as usize];
+    frame.render(&mut image).unwrap();
+    assert!(image == render(&read, &camera, &mut storage()));
+
+    let mut few: microray::Scene<8, 1> = microray::Scene::new();
+    let ball = microray::Sphere::new(microray::Vec3::ZERO, 1.0);
+    few.add_sphere(ball, microray::Material::default()).unwrap();
+    let before = format!("{few:?}");
+    assert_eq!(
+        few.copy_from(&read.scene),
+        Err(microray::Error::TooManySpheres)
+    );
+    assert_eq!(format!("{few:?}"), before);
+    let mut dark: microray::Scene<300, 1> = microray::Scene::new();
+    assert_eq!(
+        dark.copy_from(&read.scene),
+        Err(microray::Error::TooManyLights)
+    );
+    assert!(dark.spheres().is_empty());
+}

@@ -204,6 +204,62 @@ impl<const S: usize, const L: usize> Scene<S, L> {
         self.lights.push(light).map_err(|_| Error::TooManyLights)
     }
 
+    /// Makes this scene a copy of `other`, a scene of another capacity: the same spheres,
+    /// materials and lights in the same order, and the same settings, bit for bit. Adding
+    /// `other`'s lights again would not do: [`Scene::add_light`] normalises a direction, and
+    /// normalising one already normalised may round it differently. Where `other` does not
+    /// fit, [`Error::TooManySpheres`] or [`Error::TooManyLights`], and this scene is left as
+    /// it was.
+    ///
+    /// ```
+    /// use microray::{Color, Error, Light, Material, Scene, Sphere, Vec3};
+    /// let mut big: Scene<1024, 4> = Scene::new();
+    /// big.add_sphere(Sphere::new(Vec3::ZERO, 1.0), Material::default())?;
+    /// let sun = Light::Directional { direction: Vec3::new(1.0, -3.0, 0.3), intensity: Color::ONE };
+    /// big.add_light(sun)?;
+    /// let mut small: Scene<8, 1> = Scene::new();
+    /// small.copy_from(&big)?;
+    /// assert_eq!((small.spheres(), small.lights()), (big.spheres(), big.lights()));
+    /// let mut none: Scene<8, 0> = Scene::new();
+    /// assert_eq!(none.copy_from(&big), Err(Error::TooManyLights));
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn copy_from<const S2: usize, const L2: usize>(
+        &mut self,
+        other: &Scene<S2, L2>,
+    ) -> Result<(), Error> {
+        if other.spheres.len() > S {
+            return Err(Error::TooManySpheres);
+        }
+        if other.lights.len() > L {
+            return Err(Error::TooManyLights);
+        }
+        // Every field named, so that a new one cannot be left out.
+        let Scene {
+            spheres,
+            materials,
+            derived,
+            lights,
+            ambient,
+            background,
+            shadows,
+            max_depth,
+            secondary,
+        } = other;
+        // Within the capacities, as checked: none of these can fail.
+        self.spheres.clear();
+        self.materials.clear();
+        self.derived.clear();
+        self.lights.clear();
+        let _ = self.spheres.extend_from_slice(spheres);
+        let _ = self.materials.extend_from_slice(materials);
+        let _ = self.derived.extend_from_slice(derived);
+        let _ = self.lights.extend_from_slice(lights);
+        (self.ambient, self.background) = (*ambient, *background);
+        (self.shadows, self.max_depth, self.secondary) = (*shadows, *max_depth, *secondary);
+        Ok(())
+    }
+
     /// Sets the ambient light (multiplied by each sphere's diffuse colour).
     ///
     /// ```
