@@ -26,12 +26,14 @@ fn renders_a_scene_and_reports_the_time() {
         stdout.contains(&format!("wrote {} (160x120)", out.display())),
         "{stdout}"
     );
-    assert!(
-        stdout
-            .lines()
-            .any(|l| l.starts_with("render: ") && l.ends_with(" ms")),
-        "{stdout}"
-    );
+    for line in ["scene file: ", "render: "] {
+        assert!(
+            stdout
+                .lines()
+                .any(|l| l.starts_with(line) && l.ends_with(" ms")),
+            "{stdout}"
+        );
+    }
     assert!(
         stderr(&o).is_empty(),
         "no progress bar when stderr is not a terminal: {}",
