@@ -182,9 +182,14 @@ fn animate(
     let mut image = image_buffer(size.0 as usize * size.1 as usize)?;
     let mut encoder = Encoder::new(format, cameras.len() as u32, size)?;
     let mut times = Vec::with_capacity(cameras.len());
+    // As for a still: a scene within `SMALL` spheres is rendered at that capacity.
+    let small = at_small(&file.scene);
     with_progress(size.1 * cameras.len() as u32, |done| {
         for camera in cameras {
-            let (ms, _) = render(&file.scene, camera, options, threads, &mut image, done)?;
+            let (ms, _) = match &small {
+                Some(small) => render(small, camera, options, threads, &mut image, done),
+                None => render(&file.scene, camera, options, threads, &mut image, done),
+            }?;
             times.push(ms);
             encoder.frame(size, &image)?;
         }
@@ -202,7 +207,7 @@ fn animate(
     Ok(())
 }
 
-/// The capacity at which a still image's scene is rendered when it fits: the frame of a
+/// The capacity at which a scene is rendered when it fits: the frame of a
 /// 16 384-sphere capacity sizes its per-row lists and tables for that many, which cost the
 /// target scene 2–3 % of its time.
 const SMALL: usize = 1024;
