@@ -212,6 +212,21 @@ pub fn check_api(case: &ApiCase) -> (Reached, u32) {
         return (Reached::Refused, rejected);
     };
     check_frame(&frame, &case.bands);
+    // The scene copied to other capacities renders the same pixels: one with room to spare,
+    // and one of 8 spheres (whose frames build no sweeps) where it fits.
+    let mut whole = vec![Rgb888::MAGENTA; (camera.width() * camera.height()) as usize];
+    frame.render(&mut whole).unwrap();
+    let mut roomy: Box<Scene<64, 8>> = Box::new(Scene::new());
+    roomy.copy_from(&scene).unwrap();
+    same_pixels(&roomy, &camera, case.options, &whole);
+    let mut small: Scene<8, 8> = Scene::new();
+    match small.copy_from(&scene) {
+        Ok(()) => same_pixels(&small, &camera, case.options, &whole),
+        Err(e) => {
+            assert_eq!(e, Error::TooManySpheres);
+            assert!(scene.spheres().len() > 8 && small.spheres().is_empty());
+        }
+    }
     let lit = !(scene.spheres().is_empty() || scene.lights().is_empty());
     (
         if lit {
@@ -221,6 +236,23 @@ pub fn check_api(case: &ApiCase) -> (Reached, u32) {
         },
         rejected,
     )
+}
+
+/// `scene` rendered by `Frame::render` gives the pixels `whole`.
+fn same_pixels<const S: usize, const L: usize>(
+    scene: &Scene<S, L>,
+    camera: &Camera,
+    options: RenderOptions,
+    whole: &[Rgb888],
+) {
+    let mut storage = Box::new(FrameStorage::new());
+    let frame = Frame::new(scene, camera, options, &mut storage).unwrap();
+    let mut image = vec![Rgb888::new(1, 2, 3); whole.len()];
+    frame.render(&mut image).unwrap();
+    assert!(
+        image == whole,
+        "a copy at capacity {S} renders other pixels"
+    );
 }
 
 /// Every way of rendering `frame` gives its pixels: `render` = brute force = bands of the
