@@ -290,16 +290,26 @@ impl<const S: usize> Sweep<S> {
     /// indexes them.
     pub(super) fn arrange(&mut self, all: &mut heapless::Vec<Entry, S>, room: &mut SortRoom<S>) {
         self.sort(all, false, |e| e.key, room);
-        self.fill_fields(all);
         self.hw_max = all.iter().fold(self.hw_max, |m, e| m.max(e.half));
         let n = all.len();
         if cfg!(lanes) && n >= SLABS_FROM {
             // About √n / 2 slabs of 2√n entries: a search meets a slab or two, and in each
-            // the entries of its window of `key2`.
+            // the entries of its window of `key2`. The index reads only the keys: the other
+            // fields are filled once, after the slabs' sort.
+            self.key.clear();
+            for e in all.iter() {
+                let _ = self.key.push(e.key);
+            }
             self.index((libm::sqrtf(n as f32) * 0.5) as usize);
             self.slabs = true;
-            self.sort_slabs(all, room);
+            // Each slab's entries by `key2`: the slabs stay where they are, a slab being a
+            // run of keys (`bucket` is monotonic).
+            self.sort(all, true, |e| e.key2, room);
+            self.fill_fields(all);
+            #[cfg(lanes)]
+            self.index_slabs();
         } else {
+            self.fill_fields(all);
             self.index((n / 4).max(1));
         }
     }
@@ -358,15 +368,6 @@ impl<const S: usize> Sweep<S> {
             #[cfg(not(lanes))]
             items.sort_unstable_by(|x, y| key(x).total_cmp(&key(y)));
         }
-    }
-
-    /// Sorts each bucket's entries by `key2` (through `all`, the entries in key order): the
-    /// buckets stay where they are, a bucket being a run of keys (`bucket` is monotonic).
-    fn sort_slabs(&mut self, all: &mut heapless::Vec<Entry, S>, room: &mut SortRoom<S>) {
-        self.sort(all, true, |e| e.key2, room);
-        self.fill_fields(all);
-        #[cfg(lanes)]
-        self.index_slabs();
     }
 
     /// Indexes each slab by `key2` (`per_slab`), its starts after the slabs' in `start`: about
