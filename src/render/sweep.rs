@@ -169,6 +169,16 @@ pub(super) struct Band {
     pub(super) far: f32,
 }
 
+impl Band {
+    /// How far from the key `k` (`key` or `key2`) a scan reads: `band` widened by 2⁻¹⁰ and a
+    /// few ulp of `k`, far beyond the rounding of `k ± band`, so that every entry the filter
+    /// passes (`|k_j − k| ≤ half_j + slack ≤ band`, each side rounded its own way) lies within.
+    #[inline(always)]
+    fn reach(&self, k: f32) -> f32 {
+        self.band * (1.0 + 1.0 / 1024.0) + libm::fabsf(k) * (4.0 * f32::EPSILON)
+    }
+}
+
 impl<const S: usize> Sweep<S> {
     pub(super) const fn empty() -> Self {
         Sweep {
@@ -522,10 +532,14 @@ impl<const S: usize> Sweep<S> {
         if self.slabs {
             return self.scan_slabs::<DEPTH>(b, consider);
         }
-        let (hi, n) = (b.key + b.band, self.key.len());
-        // Within a few entries of the first key ≥ key − band: the keys before that are more
-        // than `band` from `key` but for rounding, and the filter below decides them.
-        let i = self.near_first(b.key - b.band);
+        // The band's ends widened beyond the rounding of `key ± band` (`Band::reach`): an entry
+        // on the filter's edge passes or fails by the rounding of `|k − key|`, which is not
+        // that of the ends.
+        let w = b.reach(b.key);
+        let (hi, n) = (b.key + w, self.key.len());
+        // Within a few entries of the first key ≥ key − w: the keys before that are more than
+        // `band` from `key`, and the filter below decides those after it.
+        let i = self.near_first(b.key - w);
         // Hosts first take four entries at a time (`Sweep::scan_lanes`); `None`: done.
         let Some(mut i) = self.scan_lanes::<DEPTH>(i, hi, b, consider) else {
             return;
@@ -573,13 +587,12 @@ impl<const S: usize> Sweep<S> {
 
     /// [`Sweep::scan`] over slabs: the slabs of the keys within `band` of `key`, and in each
     /// the run of entries whose `key2` is within `band` of `key2` (a passing entry's `key2` is
-    /// within its half-width and `slack`, at most `band`). Both windows are widened by 2⁻¹⁰
-    /// and a few ulp of the key, far beyond the rounding of the filter's differences, which
-    /// then decides each entry as `scan` does: the same spheres, in another order.
+    /// within its half-width and `slack`, at most `band`). Both windows are widened
+    /// ([`Band::reach`]) and the filter then decides each entry as `scan` does: the same
+    /// spheres, in another order.
     #[inline(never)]
     fn scan_slabs<const DEPTH: bool>(&self, b: Band, consider: &mut impl FnMut(SphereId)) {
-        let widen = |k: f32| b.band * (1.0 + 1.0 / 1024.0) + libm::fabsf(k) * (4.0 * f32::EPSILON);
-        let (w, w2) = (widen(b.key), widen(b.key2));
+        let (w, w2) = (b.reach(b.key), b.reach(b.key2));
         let (lo2, hi2) = (b.key2 - w2, b.key2 + w2);
         for slab in self.bucket(b.key - w)..=self.bucket(b.key + w) {
             let (Some(&lo), Some(&hi)) = (self.start.get(slab), self.start.get(slab + 1)) else {
