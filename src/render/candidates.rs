@@ -231,16 +231,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
                 let start = cull.shadow.pool.len() as u16;
                 let spheres = self.scene.spheres();
-                let mut blockers = Blockers::new(light, spheres, q, rho, &mut cull.shadow.pool);
-                let mut consider = |s: SphereId| {
-                    // Not a group's own sphere: the shadow test skips the hit's sphere among
-                    // its candidates (it finds the ray's exit from it analytically), so listing
-                    // it would only cost a skip per pixel. `SphereId::REST` is no sphere's id
-                    // (`FITS`).
-                    if s != group.sphere {
-                        blockers.consider(s);
-                    }
-                };
+                let pool = &mut cull.shadow.pool;
+                let mut blockers = Blockers::new(light, spheres, (q, rho), group.sphere, pool);
                 let band = match self.tables.sweeps.get(li) {
                     Some(w) if Self::SWEEPS => w.band(light, q, rho),
                     _ => None,
@@ -250,11 +242,11 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                     Some((sweep, band)) => {
                         // The entries beyond the ball's reach dropped (none where it is NaN).
                         let far = light.far_depth(q, rho);
-                        sweep.each::<true>(Band { far, ..band }, &mut consider);
+                        sweep.each::<true>(Band { far, ..band }, &mut blockers);
                     }
                     None => {
                         for s in 0..spheres.len() {
-                            consider(SphereId::new(s));
+                            blockers.one(SphereId::new(s));
                         }
                     }
                 }
@@ -284,6 +276,10 @@ pub(super) struct Blockers<'c, const S: usize> {
     pub(super) spheres: &'c [crate::Sphere],
     pub(super) q: Vec3,
     pub(super) rho: f32,
+    /// The group's own sphere, never listed: the shadow test skips the hit's sphere among its
+    /// candidates (it finds the ray's exit from it analytically), so listing it would only
+    /// cost a skip per pixel. `SphereId::REST` is no sphere's id (`FITS`).
+    pub(super) own: SphereId,
     pub(super) pool: &'c mut List<S>,
     /// The candidates collected so far (hosts; `()` on Cortex-M, never read there).
     #[cfg_attr(not(lanes), allow(dead_code))]
@@ -292,13 +288,14 @@ pub(super) struct Blockers<'c, const S: usize> {
 }
 
 impl<'c, const S: usize> Blockers<'c, S> {
-    /// For shadow rays towards `light` from the ball `(q, rho)`, appending to `pool`.
+    /// For shadow rays towards `light` from the ball `(q, rho)` about the hits on sphere
+    /// `own`, appending to `pool`.
     #[inline(always)]
     pub(super) fn new(
         light: &'c Light,
         spheres: &'c [crate::Sphere],
-        q: Vec3,
-        rho: f32,
+        (q, rho): (Vec3, f32),
+        own: SphereId,
         pool: &'c mut List<S>,
     ) -> Self {
         Blockers {
@@ -306,6 +303,7 @@ impl<'c, const S: usize> Blockers<'c, S> {
             spheres,
             q,
             rho,
+            own,
             pool,
             found: Default::default(),
             full: false,

@@ -186,10 +186,13 @@ impl<const S: usize, const L: usize> Cull<S, L> {
 /// Cortex-M weighs each candidate at once: nothing is collected.
 pub(super) type Found<const S: usize> = ();
 
-impl<const S: usize> Blockers<'_, S> {
+impl<const S: usize> Consider for Blockers<'_, S> {
     /// Sphere `s` may be a candidate: kept if it can block.
     #[inline(always)]
-    pub(super) fn consider(&mut self, s: SphereId) {
+    fn one(&mut self, s: SphereId) {
+        if s == self.own {
+            return;
+        }
         if let Some(sphere) = self.spheres.get(s.index()) {
             if self
                 .light
@@ -200,7 +203,9 @@ impl<const S: usize> Blockers<'_, S> {
             }
         }
     }
+}
 
+impl<const S: usize> Blockers<'_, S> {
     /// Whether the pool ran out of room.
     #[inline(always)]
     pub(super) fn finish(&mut self) -> bool {
@@ -216,7 +221,20 @@ impl<const S: usize> Sweep<S> {
         i: usize,
         _hi: f32,
         _band: Band,
-        _consider: &mut impl FnMut(SphereId),
+        _consider: &mut impl Consider,
+    ) -> Option<usize> {
+        Some(i)
+    }
+
+    /// The start of a slab's run: nothing before the scalar run here (no slabs are built).
+    #[inline(always)]
+    pub(super) fn slab_lanes<const DEPTH: bool>(
+        &self,
+        i: usize,
+        _hi: usize,
+        _hi2: f32,
+        _band: Band,
+        _consider: &mut impl Consider,
     ) -> Option<usize> {
         Some(i)
     }

@@ -358,22 +358,27 @@ mod slab_tests {
                     let near = e.half + slack;
                     (libm::fabsf(e.key - key) <= near) & (libm::fabsf(e.key2 - key2) <= near)
                 };
-                for depth in [false, true] {
-                    let mut got: heapless::Vec<usize, 8192> = heapless::Vec::new();
-                    let mut push = |s: SphereId| {
-                        let _ = got.push(s.index());
-                    };
+                for (depth, masked) in [(false, false), (true, false), (false, true), (true, true)]
+                {
+                    // Taken one by one, or four at a time as `Frame::gather` takes them.
+                    let mut got = Collect(heapless::Vec::new(), masked);
                     if depth {
-                        w.scan::<true>(band, &mut push);
+                        w.scan::<true>(band, &mut got);
                     } else {
-                        w.scan::<false>(band, &mut push);
+                        w.scan::<false>(band, &mut got);
                     }
+                    let mut got: heapless::Vec<usize, 8192> =
+                        got.0.iter().map(|s| s.index()).collect();
                     got.sort_unstable();
                     let want: heapless::Vec<usize, 8192> = (0..n)
                         .filter(|&s| keys(s) && (!depth || !(entries[s].depth > far)))
                         .collect();
-                    assert_eq!(got, want, "case {case}, query {q}: ({key}, {key2}, {far})");
-                    if depth {
+                    assert_eq!(
+                        got, want,
+                        "case {case}, query {q}: ({key}, {key2}, {far}), masked {masked}"
+                    );
+                    if masked {
+                    } else if depth {
                         deep += got.len();
                     } else {
                         named += got.len();
@@ -386,6 +391,57 @@ mod slab_tests {
             named > 10_000 && deep > 5_000 && deep < named * 3 / 4,
             "{named} {deep}"
         );
+    }
+
+    /// A scan's spheres collected one by one, or (`.1`) four at a time by `push_masked`.
+    struct Collect(heapless::Vec<SphereId, 8192>, bool);
+
+    impl Consider for Collect {
+        fn one(&mut self, s: SphereId) {
+            assert!(self.0.push(s).is_ok());
+        }
+        fn four(&mut self, ids: &[SphereId], keep: u32) {
+            if self.1 {
+                assert!(push_masked(&mut self.0, ids, keep));
+            } else {
+                for (l, &s) in ids.iter().enumerate() {
+                    if keep & (1 << l) != 0 {
+                        self.one(s);
+                    }
+                }
+            }
+        }
+    }
+
+    /// `push_masked` appends the kept ids in order for every mask and every count of room
+    /// left, and says when one did not fit.
+    #[test]
+    fn push_masked_appends_the_kept_ids() {
+        let ids = [10, 11, 12, 13].map(SphereId::new);
+        for keep in 0..16u32 {
+            let want: heapless::Vec<SphereId, 4> = (0..4)
+                .filter(|l| keep & (1 << l) != 0)
+                .map(|l| ids[l])
+                .collect();
+            for before in 0..=6 {
+                let mut list: heapless::Vec<SphereId, 6> = (0..before).map(SphereId::new).collect();
+                let fits = push_masked(&mut list, &ids, keep);
+                let room = 6 - before;
+                assert_eq!(fits, want.len() <= room, "mask {keep:04b}, {before} before");
+                let kept = want.len().min(room);
+                assert_eq!(
+                    list.len(),
+                    before + kept,
+                    "mask {keep:04b}, {before} before"
+                );
+                assert!((0..before).all(|s| list[s] == SphereId::new(s)));
+                assert_eq!(
+                    list[before..],
+                    want[..kept],
+                    "mask {keep:04b}, {before} before"
+                );
+            }
+        }
     }
 }
 

@@ -412,15 +412,25 @@ impl<const S: usize, const L: usize> Cull<S, L> {
 /// Where hosts collect a light's candidates before weighing them four at a time.
 pub(super) type Found<const S: usize> = List<S>;
 
-impl<const S: usize> Blockers<'_, S> {
+impl<const S: usize> Consider for Blockers<'_, S> {
     /// Sphere `s` may be a candidate.
     #[inline(always)]
-    pub(super) fn consider(&mut self, s: SphereId) {
+    fn one(&mut self, s: SphereId) {
         if self.found.push(s).is_err() {
             self.full = true;
         }
     }
 
+    /// Without a branch on each entry's outcome ([`push_masked`]).
+    #[inline(always)]
+    fn four(&mut self, ids: &[SphereId], keep: u32) {
+        if !push_masked(&mut self.found, ids, keep) {
+            self.full = true;
+        }
+    }
+}
+
+impl<const S: usize> Blockers<'_, S> {
     /// Keeps the spheres that can block in the pool; whether a list or the pool ran out of room.
     #[inline(always)]
     pub(super) fn finish(&mut self) -> bool {
@@ -433,7 +443,9 @@ impl<const S: usize> Blockers<'_, S> {
             let r = sph.map(|s| s.map_or(0.0, |s| s.radius));
             let pass = self.light.may_block4(m, r, self.q, self.rho);
             for (l, &i) in ids.iter().enumerate() {
-                if pass & (1 << l) != 0 && sph[l].is_some() && self.pool.push(i).is_err() {
+                // Not the group's own sphere (`Blockers::own`).
+                let keep = pass & (1 << l) != 0 && sph[l].is_some() && i != self.own;
+                if keep && self.pool.push(i).is_err() {
                     full = true;
                 }
             }
@@ -452,9 +464,9 @@ impl<const S: usize> Sweep<S> {
         mut i: usize,
         hi: f32,
         b: Band,
-        consider: &mut impl FnMut(SphereId),
+        consider: &mut impl Consider,
     ) -> Option<usize> {
-        use crate::simd::{bits, ones, F};
+        use crate::simd::{bits, F};
         use crate::simd::{CmpGt, CmpLe};
         fn from(v: &[f32], i: usize) -> &[f32] {
             v.get(i..).unwrap_or(&[])
@@ -482,12 +494,63 @@ impl<const S: usize> Sweep<S> {
             } else {
                 keep
             };
-            for l in ones(bits(keep)) {
-                if let Some(&s) = s.get(l) {
-                    consider(s);
-                }
-            }
+            consider.four(s, bits(keep));
             if bits(within) != 0b1111 {
+                return None;
+            }
+            i += 4;
+        }
+        Some(i)
+    }
+
+    /// The start of a slab's run in [`Sweep::scan_slabs`] from entry `i`, four entries at a
+    /// time: the same comparisons lane by lane, the lanes from the slab's end `hi` on masked,
+    /// and as the slab is sorted by `key2`, the entries not beyond `hi2` are a prefix of the
+    /// four. Where the scalar run goes on, or `None` when the run has ended.
+    #[inline(always)]
+    pub(super) fn slab_lanes<const DEPTH: bool>(
+        &self,
+        mut i: usize,
+        hi: usize,
+        hi2: f32,
+        b: Band,
+        consider: &mut impl Consider,
+    ) -> Option<usize> {
+        use crate::simd::{bits, F};
+        use crate::simd::{CmpGt, CmpLe};
+        while i < hi {
+            let four = |v: &[f32]| {
+                v.get(i..i + 4)
+                    .and_then(|c| <[f32; 4]>::try_from(c).ok())
+                    .map(F::from)
+            };
+            let ds = if DEPTH { &self.depth } else { &self.key };
+            let (Some(k), Some(h), Some(k2), Some(d), Some(s)) = (
+                four(&self.key),
+                four(&self.half),
+                four(&self.key2),
+                four(ds),
+                self.sphere.get(i..i + 4),
+            ) else {
+                // Fewer than four entries left in the sweep: the scalar run takes them.
+                break;
+            };
+            // The lanes still in the slab, and of those the ones not beyond `hi2` (`!(k2 >
+            // hi2)`, as the scalar run stops).
+            let slab = (1u32 << (hi - i).min(4)) - 1;
+            let within = !k2.cmp_gt(F::splat(hi2));
+            let near = h + F::splat(b.slack);
+            let keep = within
+                & (k - F::splat(b.key)).abs().cmp_le(near)
+                & (k2 - F::splat(b.key2)).abs().cmp_le(near);
+            // Not beyond (`Sweep::passes`): a NaN depth keeps the entry.
+            let keep = if DEPTH {
+                keep & !d.cmp_gt(F::splat(b.far))
+            } else {
+                keep
+            };
+            consider.four(s, bits(keep) & slab);
+            if bits(within) & slab != 0b1111 {
                 return None;
             }
             i += 4;
