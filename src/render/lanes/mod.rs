@@ -466,36 +466,11 @@ impl<const S: usize> Sweep<S> {
         b: Band,
         consider: &mut impl Consider,
     ) -> Option<usize> {
-        use crate::simd::{bits, F};
-        use crate::simd::{CmpGt, CmpLe};
-        fn from(v: &[f32], i: usize) -> &[f32] {
-            v.get(i..).unwrap_or(&[])
-        }
-        let (ks, hs, k2s) = (from(&self.key, i), from(&self.half, i), from(&self.key2, i));
-        // Without `DEPTH`, the keys stand in for the depths, never read.
-        let ds = from(if DEPTH { &self.depth } else { &self.key }, i);
-        let ss = self.sphere.get(i..).unwrap_or(&[]);
-        let quads = ks.chunks_exact(4).zip(hs.chunks_exact(4));
-        let rest = k2s.chunks_exact(4).zip(ds.chunks_exact(4));
-        for ((k, h), ((k2, d), s)) in quads.zip(rest.zip(ss.chunks_exact(4))) {
-            let four = |c: &[f32]| <[f32; 4]>::try_from(c).ok().map(F::from);
-            let (Some(k), Some(h), Some(k2), Some(d)) = (four(k), four(h), four(k2), four(d))
-            else {
-                break;
-            };
-            let near = h + F::splat(b.slack);
-            let within = k.cmp_le(F::splat(hi));
-            let keep = within
-                & (k - F::splat(b.key)).abs().cmp_le(near)
-                & (k2 - F::splat(b.key2)).abs().cmp_le(near);
-            // Not beyond (`Sweep::passes`): a NaN depth keeps the entry.
-            let keep = if DEPTH {
-                keep & !d.cmp_gt(F::splat(b.far))
-            } else {
-                keep
-            };
-            consider.four(s, bits(keep));
-            if bits(within) != 0b1111 {
+        use crate::simd::{bits, CmpLe, F};
+        while let Some((e, s)) = self.four::<DEPTH>(i) {
+            let within = bits(e[0].cmp_le(F::splat(hi)));
+            consider.four(s, Self::passes4::<DEPTH>(b, e) & within);
+            if within != 0b1111 {
                 return None;
             }
             i += 4;
@@ -504,9 +479,10 @@ impl<const S: usize> Sweep<S> {
     }
 
     /// The start of a slab's run in [`Sweep::scan_slabs`] from entry `i`, four entries at a
-    /// time: the same comparisons lane by lane, the lanes from the slab's end `hi` on masked,
-    /// and as the slab is sorted by `key2`, the entries not beyond `hi2` are a prefix of the
-    /// four. Where the scalar run goes on, or `None` when the run has ended.
+    /// time: the same comparisons lane by lane, the lanes from the slab's end `hi` on masked
+    /// (the next slab's entries would be named twice), and as the slab is sorted by `key2`,
+    /// the entries not beyond `hi2` are a prefix of the four. Where the scalar run goes on, or
+    /// `None` when the run has ended.
     #[inline(always)]
     pub(super) fn slab_lanes<const DEPTH: bool>(
         &self,
@@ -516,45 +492,51 @@ impl<const S: usize> Sweep<S> {
         b: Band,
         consider: &mut impl Consider,
     ) -> Option<usize> {
-        use crate::simd::{bits, F};
-        use crate::simd::{CmpGt, CmpLe};
+        use crate::simd::{bits, CmpGt, F};
         while i < hi {
-            let four = |v: &[f32]| {
-                v.get(i..i + 4)
-                    .and_then(|c| <[f32; 4]>::try_from(c).ok())
-                    .map(F::from)
-            };
-            let ds = if DEPTH { &self.depth } else { &self.key };
-            let (Some(k), Some(h), Some(k2), Some(d), Some(s)) = (
-                four(&self.key),
-                four(&self.half),
-                four(&self.key2),
-                four(ds),
-                self.sphere.get(i..i + 4),
-            ) else {
-                // Fewer than four entries left in the sweep: the scalar run takes them.
+            let Some((e, s)) = self.four::<DEPTH>(i) else {
                 break;
             };
             // The lanes still in the slab, and of those the ones not beyond `hi2` (`!(k2 >
             // hi2)`, as the scalar run stops).
             let slab = (1u32 << (hi - i).min(4)) - 1;
-            let within = !k2.cmp_gt(F::splat(hi2));
-            let near = h + F::splat(b.slack);
-            let keep = within
-                & (k - F::splat(b.key)).abs().cmp_le(near)
-                & (k2 - F::splat(b.key2)).abs().cmp_le(near);
-            // Not beyond (`Sweep::passes`): a NaN depth keeps the entry.
-            let keep = if DEPTH {
-                keep & !d.cmp_gt(F::splat(b.far))
-            } else {
-                keep
-            };
-            consider.four(s, bits(keep) & slab);
-            if bits(within) & slab != 0b1111 {
+            let within = bits(!e[2].cmp_gt(F::splat(hi2))) & slab;
+            consider.four(s, Self::passes4::<DEPTH>(b, e) & within);
+            if within != 0b1111 {
                 return None;
             }
             i += 4;
         }
         Some(i)
+    }
+
+    /// Entries `i..i + 4` by field, `[key, half, key2, depth]` (without `DEPTH` the keys stand
+    /// in for the depths, never read), and their spheres; `None` where fewer than four remain.
+    #[inline(always)]
+    fn four<const DEPTH: bool>(&self, i: usize) -> Option<([crate::simd::F; 4], &[SphereId])> {
+        let at = |v: &[f32]| {
+            v.get(i..i + 4)
+                .and_then(|c| <[f32; 4]>::try_from(c).ok())
+                .map(crate::simd::F::from)
+        };
+        let depth = if DEPTH { &self.depth } else { &self.key };
+        let fields = [at(&self.key)?, at(&self.half)?, at(&self.key2)?, at(depth)?];
+        Some((fields, self.sphere.get(i..i + 4)?))
+    }
+
+    /// [`Sweep::passes`] of four entries (see [`Sweep::four`]), lane by lane: the bits of
+    /// those that pass.
+    #[inline(always)]
+    fn passes4<const DEPTH: bool>(b: Band, [k, h, k2, d]: [crate::simd::F; 4]) -> u32 {
+        use crate::simd::{bits, CmpGt, CmpLe, F};
+        let near = h + F::splat(b.slack);
+        let keep =
+            (k - F::splat(b.key)).abs().cmp_le(near) & (k2 - F::splat(b.key2)).abs().cmp_le(near);
+        // Not beyond: a NaN depth keeps the entry.
+        bits(if DEPTH {
+            keep & !d.cmp_gt(F::splat(b.far))
+        } else {
+            keep
+        })
     }
 }
