@@ -467,9 +467,24 @@ impl<const S: usize> Sweep<S> {
         consider: &mut impl Consider,
     ) -> Option<usize> {
         use crate::simd::{bits, CmpLe, F};
-        while let Some((e, s)) = self.four::<DEPTH>(i) {
-            let within = bits(e[0].cmp_le(F::splat(hi)));
-            consider.four(s, Self::passes4::<DEPTH>(b, e) & within);
+        fn from(v: &[f32], i: usize) -> &[f32] {
+            v.get(i..).unwrap_or(&[])
+        }
+        // By chunks rather than `Sweep::four`'s loads at `i`: fewer bounds checks in this loop,
+        // which every span's scan of a sweep under `SLABS_FROM` entries runs.
+        let (ks, hs, k2s) = (from(&self.key, i), from(&self.half, i), from(&self.key2, i));
+        let ds = from(if DEPTH { &self.depth } else { &self.key }, i);
+        let ss = self.sphere.get(i..).unwrap_or(&[]);
+        let quads = ks.chunks_exact(4).zip(hs.chunks_exact(4));
+        let rest = k2s.chunks_exact(4).zip(ds.chunks_exact(4));
+        for ((k, h), ((k2, d), s)) in quads.zip(rest.zip(ss.chunks_exact(4))) {
+            let four = |c: &[f32]| <[f32; 4]>::try_from(c).ok().map(F::from);
+            let (Some(k), Some(h), Some(k2), Some(d)) = (four(k), four(h), four(k2), four(d))
+            else {
+                break;
+            };
+            let within = bits(k.cmp_le(F::splat(hi)));
+            consider.four(s, Self::passes4::<DEPTH>(b, [k, h, k2, d]) & within);
             if within != 0b1111 {
                 return None;
             }
