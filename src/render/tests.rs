@@ -291,8 +291,9 @@ mod slab_tests {
     /// filter: a host's sweep of [`SLABS_FROM`] entries or more scanning slabs sorted by the
     /// second key, and a smaller one scanning four entries at a time, for keys spread and
     /// clustered, half-widths from zero to wide, depths anywhere and some NaN (kept: not
-    /// beyond), and queries anywhere, on the filter's edge in either key, and outside every
-    /// key.
+    /// beyond), slacks from none to half the keys' range (a slab's run then reaches its end),
+    /// and queries anywhere, on the filter's edge in either key, and outside every key; the
+    /// spheres taken one by one, and four at a time through `push_masked`, each once.
     #[test]
     fn sweeps_name_the_filtered_spheres() {
         use crate::math::TestRng;
@@ -377,11 +378,10 @@ mod slab_tests {
                         got, want,
                         "case {case}, query {q}: ({key}, {key2}, {far}), masked {masked}"
                     );
-                    if masked {
-                    } else if depth {
-                        deep += got.len();
-                    } else {
-                        named += got.len();
+                    match (masked, depth) {
+                        (true, _) => {}
+                        (false, true) => deep += got.len(),
+                        (false, false) => named += got.len(),
                     }
                 }
             }
