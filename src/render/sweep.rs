@@ -9,7 +9,8 @@ use super::*;
 pub(super) trait Consider {
     /// Sphere `s` passes.
     fn one(&mut self, s: SphereId);
-    /// The spheres `ids[l]` whose bit `l` is set in `keep` pass, in lane order.
+    /// The spheres `ids[l]` whose bit `l` is set in `keep` pass, in lane order (hosts' scans).
+    #[cfg_attr(not(lanes), allow(dead_code))]
     #[inline(always)]
     fn four(&mut self, ids: &[SphereId], keep: u32) {
         for (l, &s) in ids.iter().enumerate().take(4) {
