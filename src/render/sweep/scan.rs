@@ -176,7 +176,7 @@ impl<const S: usize> Sweep<S> {
         // on the filter's edge passes or fails by the rounding of `|k − key|`, which is not
         // that of the ends.
         let w = b.reach(b.key);
-        let (hi, n) = (b.key + w, self.key.len());
+        let hi = b.key + w;
         // Within a few entries of the first key ≥ key − w: the keys before that are more than
         // `band` from `key`, and the filter below decides those after it.
         let i = self.near_first(b.key - w);
@@ -184,30 +184,21 @@ impl<const S: usize> Sweep<S> {
         let Some(mut i) = self.scan_lanes::<DEPTH>(i, hi, b, consider) else {
             return;
         };
-        while i < n {
-            let (Some(&k), Some(&h), Some(&k2), Some(&d), Some(&s)) = (
-                self.key.get(i),
-                self.half.get(i),
-                self.key2.get(i),
-                self.depth_at::<DEPTH>(i),
-                self.sphere.get(i),
-            ) else {
-                return;
-            };
-            if k > hi {
+        while let Some((e, s)) = self.entry::<DEPTH>(i) {
+            if e[0] > hi {
                 return;
             }
-            if self.passes::<DEPTH>(b, k, h, k2, d) {
+            if self.passes::<DEPTH>(b, e) {
                 consider.one(s);
             }
             i += 1;
         }
     }
 
-    /// Whether the entry of key `k`, half-width `h`, second key `k2` and depth `d` passes the
+    /// Whether an entry (key, half-width, second key, depth: [`Sweep::entry`]) passes the
     /// filter of [`Sweep::scan`].
     #[inline(always)]
-    fn passes<const DEPTH: bool>(&self, b: Band, k: f32, h: f32, k2: f32, d: f32) -> bool {
+    fn passes<const DEPTH: bool>(&self, b: Band, [k, h, k2, d]: [f32; 4]) -> bool {
         // `&`, not `&&`: one branch on the outcome rather than three.
         let near = h + b.slack;
         // Not beyond: a NaN depth (coordinates that overflow) keeps the entry.
@@ -215,14 +206,13 @@ impl<const S: usize> Sweep<S> {
         (libm::fabsf(k - b.key) <= near) & (libm::fabsf(k2 - b.key2) <= near) & ahead
     }
 
-    /// Entry `i`'s depth where `DEPTH` asks for it, else a stand-in that is never read.
+    /// Entry `i` by field, `[key, half, key2, depth]` (the depth where `DEPTH` asks for it,
+    /// else a stand-in that is never read), and its sphere; `None` past the last entry.
     #[inline(always)]
-    fn depth_at<const DEPTH: bool>(&self, i: usize) -> Option<&f32> {
-        if DEPTH {
-            self.depth.get(i)
-        } else {
-            Some(&0.0)
-        }
+    fn entry<const DEPTH: bool>(&self, i: usize) -> Option<([f32; 4], SphereId)> {
+        let d = if DEPTH { *self.depth.get(i)? } else { 0.0 };
+        let fields = [*self.key.get(i)?, *self.half.get(i)?, *self.key2.get(i)?, d];
+        Some((fields, *self.sphere.get(i)?))
     }
 
     /// [`Sweep::scan`] over slabs: the slabs of the keys within `band` of `key`, and in each
@@ -246,19 +236,13 @@ impl<const S: usize> Sweep<S> {
                 continue;
             };
             while i < hi {
-                let (Some(&k), Some(&h), Some(&k2), Some(&d), Some(&s)) = (
-                    self.key.get(i),
-                    self.half.get(i),
-                    self.key2.get(i),
-                    self.depth_at::<DEPTH>(i),
-                    self.sphere.get(i),
-                ) else {
+                let Some((e, s)) = self.entry::<DEPTH>(i) else {
                     return;
                 };
-                if k2 > hi2 {
+                if e[2] > hi2 {
                     break;
                 }
-                if self.passes::<DEPTH>(b, k, h, k2, d) {
+                if self.passes::<DEPTH>(b, e) {
                     consider.one(s);
                 }
                 i += 1;
