@@ -181,17 +181,31 @@ impl<const S: usize> Sweep<S> {
         // `band` from `key`, and the filter below decides those after it.
         let i = self.near_first(b.key - w);
         // Hosts first take four entries at a time (`Sweep::scan_lanes`); `None`: done.
-        let Some(mut i) = self.scan_lanes::<DEPTH>(i, hi, b, consider) else {
-            return;
-        };
-        while let Some((e, s)) = self.entry::<DEPTH>(i) {
-            if e[0] > hi {
+        if let Some(i) = self.scan_lanes::<DEPTH>(i, hi, b, consider) {
+            self.run::<DEPTH>(i..self.key.len(), |e| e[0] > hi, b, consider);
+        }
+    }
+
+    /// The scalar part of a scan: the entries of `at` in order, until one lies `beyond` the
+    /// run (as the entries are sorted, so do the rest), each that passes handed to `consider`.
+    #[inline(always)]
+    fn run<const DEPTH: bool>(
+        &self,
+        at: core::ops::Range<usize>,
+        beyond: impl Fn(&[f32; 4]) -> bool,
+        b: Band,
+        consider: &mut impl Consider,
+    ) {
+        for i in at {
+            let Some((e, s)) = self.entry::<DEPTH>(i) else {
+                return;
+            };
+            if beyond(&e) {
                 return;
             }
             if self.passes::<DEPTH>(b, e) {
                 consider.one(s);
             }
-            i += 1;
         }
     }
 
@@ -232,20 +246,8 @@ impl<const S: usize> Sweep<S> {
             let i = self.first_in_slab(slab, (lo, hi), lo2);
             // Hosts first take four entries at a time (`Sweep::slab_lanes`); `None`: the run
             // has ended.
-            let Some(mut i) = self.slab_lanes::<DEPTH>(i, hi, hi2, b, consider) else {
-                continue;
-            };
-            while i < hi {
-                let Some((e, s)) = self.entry::<DEPTH>(i) else {
-                    return;
-                };
-                if e[2] > hi2 {
-                    break;
-                }
-                if self.passes::<DEPTH>(b, e) {
-                    consider.one(s);
-                }
-                i += 1;
+            if let Some(i) = self.slab_lanes::<DEPTH>(i, hi, hi2, b, consider) {
+                self.run::<DEPTH>(i..hi, |e| e[2] > hi2, b, consider);
             }
         }
     }
