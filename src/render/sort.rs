@@ -8,10 +8,10 @@
 const RADIX_FROM: usize = 64;
 
 /// Sorts `items` by `key` in [`f32::total_cmp`]'s order, equal keys in their order: a radix sort
-/// of the keys' bits, a byte a pass from the low one, each pass stable, from the items into
-/// `room` (whatever it held, overwritten) and back; below [`RADIX_FROM`] items an insertion
-/// sort. With less room than items it sorts them by comparisons instead, equal keys then in
-/// any order (no caller gives less).
+/// of the keys' bits, a byte a pass from the low one, each pass stable, between the items and
+/// `room` (whatever it held, overwritten), skipping a byte that every item shares; below
+/// [`RADIX_FROM`] items an insertion sort. With less room than items it sorts them by
+/// comparisons instead, equal keys then in any order (no caller gives less).
 pub(super) fn radix_sort<T: Copy>(items: &mut [T], room: &mut [T], key: impl Fn(&T) -> f32) {
     let n = items.len();
     if n < RADIX_FROM {
@@ -45,22 +45,32 @@ pub(super) fn radix_sort<T: Copy>(items: &mut [T], room: &mut [T], key: impl Fn(
             b | 1 << 31
         }
     };
-    for pass in 0..4 {
-        // From `items` into `room` and back: the fourth pass lands in `items`.
-        let (from, to) = if pass % 2 == 0 {
-            (&*items, &mut *room)
-        } else {
-            (&*room, &mut *items)
-        };
-        let byte = |x: &T| (bits(x) >> (8 * pass)) as usize & 0xff;
-        // Where each byte's items go: the counts of the smaller bytes.
-        let mut at = [0usize; 256];
-        for x in from {
-            if let Some(a) = at.get_mut(byte(x)) {
+    // Every pass's counts from one read of the keys.
+    let mut counts = [[0usize; 256]; 4];
+    for x in &*items {
+        let b = bits(x);
+        for (pass, at) in counts.iter_mut().enumerate() {
+            if let Some(a) = at.get_mut((b >> (8 * pass)) as usize & 0xff) {
                 *a += 1;
             }
         }
-        starts(&mut at);
+    }
+    // Whether the items are in `room` after the passes so far.
+    let mut in_room = false;
+    for (pass, at) in counts.iter_mut().enumerate() {
+        let byte = |x: &T| (bits(x) >> (8 * pass)) as usize & 0xff;
+        // A byte all the items share leaves their order as it is: no pass (the high byte of
+        // keys of one sign and magnitude, often).
+        if items.first().and_then(|x| at.get(byte(x))) == Some(&n) {
+            continue;
+        }
+        // Where each byte's items go: the counts of the smaller bytes.
+        starts(at);
+        let (from, to) = if in_room {
+            (&*room, &mut *items)
+        } else {
+            (&*items, &mut *room)
+        };
         for x in from {
             if let Some(a) = at.get_mut(byte(x)) {
                 if let Some(slot) = to.get_mut(*a) {
@@ -68,6 +78,13 @@ pub(super) fn radix_sort<T: Copy>(items: &mut [T], room: &mut [T], key: impl Fn(
                 }
                 *a += 1;
             }
+        }
+        in_room = !in_room;
+    }
+    if in_room {
+        // Both of length n: a copy.
+        for (x, y) in items.iter_mut().zip(&*room) {
+            *x = *y;
         }
     }
 }

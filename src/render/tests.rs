@@ -59,8 +59,9 @@ mod pile_tests {
 
     /// `radix_sort` (a deep pile's sort, and a sweep's) orders as a stable sort by
     /// `f32::total_cmp` does: negative and positive zeros, infinities, NaNs of both signs,
-    /// subnormals, keys that differ in one bit of any byte, many repeats, and none; with more
-    /// room than items (its values past them unread), and with too little (by comparisons).
+    /// subnormals, keys that differ in one bit of any byte, many repeats, and none; keys whose
+    /// high bytes are all the same (passes skipped); with more room than items (its values
+    /// past them unread), and with too little (by comparisons).
     #[test]
     fn radix_sort_is_a_stable_total_order() {
         let mut rng = TestRng(0x0051_ACE5);
@@ -79,16 +80,28 @@ mod pile_tests {
             1.0,
             -1.0,
         ];
-        for n in [0, 1, 2, 13, 63, 64, 200, 3_000] {
-            let keys: heapless::Vec<f32, 3_000> = (0..n)
-                .map(|i| match rng.next() % 4 {
-                    0 => special[i % special.len()],
-                    // A key one bit from another in any of its bytes.
-                    1 => f32::from_bits(10.0f32.to_bits() ^ (1 << (rng.next() % 32))),
-                    2 => (rng.next() % 5) as f32,
-                    _ => (rng.unit() - 0.5) * 100.0,
-                })
-                .collect();
+        // Keys of every kind; keys that share their high byte (three passes, the sort ending
+        // in the room), all but their low byte (one pass), or every byte (none).
+        let families = [
+            |rng: &mut TestRng, i: usize, special: &[f32]| match rng.next() % 4 {
+                0 => special[i % special.len()],
+                // A key one bit from another in any of its bytes.
+                1 => f32::from_bits(10.0f32.to_bits() ^ (1 << (rng.next() % 32))),
+                2 => (rng.next() % 5) as f32,
+                _ => (rng.unit() - 0.5) * 100.0,
+            },
+            |rng: &mut TestRng, _: usize, _: &[f32]| 1.0 + rng.unit() * 0.999,
+            |rng: &mut TestRng, _: usize, _: &[f32]| {
+                f32::from_bits(0x4120_0000 | (rng.next() % 256) as u32)
+            },
+            |_: &mut TestRng, _: usize, _: &[f32]| 7.0,
+        ];
+        for (n, family) in [0, 1, 2, 13, 63, 64, 200, 3_000]
+            .into_iter()
+            .flat_map(|n| families.iter().map(move |f| (n, f)))
+        {
+            let keys: heapless::Vec<f32, 3_000> =
+                (0..n).map(|i| family(&mut rng, i, &special)).collect();
             // A stable sort: equal keys by index.
             let mut want: heapless::Vec<u16, 3_000> = (0..n as u16).collect();
             let key = |s: u16| keys[usize::from(s)];

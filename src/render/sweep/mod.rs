@@ -152,7 +152,8 @@ impl Entry {
     }
 }
 
-/// The room of a sweep's radix sort (hosts; [`Sweep::sort`]): as many entries as it sorts.
+/// The room of a sweep's radix sort (hosts; [`Sweep::sort`]): at least as many entries as it
+/// sorts, whatever they hold.
 #[cfg(lanes)]
 pub(super) type SortRoom<const S: usize> = heapless::Vec<Entry, S>;
 /// Microcontrollers sort by comparisons, without room.
@@ -342,10 +343,10 @@ impl<const S: usize> Sweep<S> {
             )),
         };
         #[cfg(lanes)]
-        {
-            // As long as `all`: of the same capacity, so the copy cannot fail.
-            room.clear();
-            let _ = room.extend_from_slice(all);
+        if room.len() < n {
+            // The sort needs the room's length, not its contents: grown only when short (to
+            // at most S, its capacity, so this cannot fail), never copied from `all`.
+            let _ = room.resize(n, Entry::new(0.0, 0.0, 0, 0.0, 0.0));
         }
         #[cfg(not(lanes))]
         let _ = room;
