@@ -57,26 +57,61 @@ pub(crate) fn leaving_blocks4(
     (h.hit & !h.redo & kept, (maybe & !kept) | (h.redo & kept))
 }
 
-/// The lanes of `open` whose ray from `anchor + rel` along `d` [`Prepared::leaving_hit`] does
-/// not reject at once (for `tmin ≥ 0`): the rest miss the sphere's line clearly or have it
-/// certainly behind them ([`leaving_start`]). Those tests decide most mirror rays against
-/// most spheres; the lanes left take the scalar test, which repeats them and returns the hit.
+/// What [`leaving_hit4`] found: bit `l` of `hit` set where lane `l` hits, at `t[l]` with the
+/// offset `f` (as [`Prepared::leaving_hit`] returns them); of `undecided` where only the scalar
+/// test decides. Every other lane of `open` misses.
 #[cfg(lanes)]
-#[inline(always)]
-pub(crate) fn leaving_open4(
-    anchor: crate::simd::V,
-    rel: crate::simd::V,
-    sphere: &Sphere,
-    d: crate::simd::V,
-    open: u32,
-) -> u32 {
-    use crate::simd::{bits, V};
-    let f = anchor.sub(V::splat(sphere.center)).add(rel);
-    let start = leaving_start(f, sphere.radius, d);
-    open & !bits(start.clear | start.behind())
+#[derive(Clone, Copy)]
+pub(crate) struct LeavingHits {
+    pub hit: u32,
+    pub undecided: u32,
+    pub t: [f32; LANES],
+    pub f: crate::simd::V,
 }
 
-/// [`leaving_open4`] turned about: the spheres `spheres` (bits `0..4` of `open`) that one ray
+/// [`Prepared::leaving_hit`] from `anchor + rel` along `d`, from `tmin ≥ 0` to each lane's
+/// `tmax`, for the lanes `open` of four mirror rays, as far as lanes decide it. The steps of
+/// `leaving_blocks4`: most lanes miss the sphere's line clearly or have it behind them; an
+/// origin outside whose f32 `c` is kept takes `hit_ab` in lanes, with the scalar root. The
+/// rest (a cancelling `c`, an origin inside, a rare path of the roots) are undecided.
+#[cfg(lanes)]
+#[inline(always)]
+pub(crate) fn leaving_hit4(
+    (anchor, rel): (crate::simd::V, crate::simd::V),
+    sphere: &Sphere,
+    d: crate::simd::V,
+    (tmin, tmax): (f32, crate::simd::F),
+    open: u32,
+) -> LeavingHits {
+    use crate::simd::{bits, F, V};
+    let f = anchor.sub(V::splat(sphere.center)).add(rel);
+    let start = leaving_start(f, sphere.radius, d);
+    let (c, rr) = (start.c, start.rr);
+    let none = |undecided| LeavingHits {
+        hit: 0,
+        undecided,
+        t: [0.0; LANES],
+        f,
+    };
+    let maybe = open & !bits(start.clear | start.behind());
+    if maybe == 0 {
+        return none(0);
+    }
+    // As in `leaving_blocks4`: a kept `c > 0` has |c| > r², Hearn–Baker's discriminant.
+    let kept = maybe & bits(start.keeps() & c.gt(F::ZERO));
+    if kept == 0 {
+        return none(maybe);
+    }
+    let h = lanes_hit(f, c, rr, true, d, tmin, tmax);
+    LeavingHits {
+        hit: h.hit & !h.redo & kept,
+        undecided: (maybe & !kept) | (h.redo & kept),
+        t: h.t,
+        f,
+    }
+}
+
+/// [`leaving_hit4`]'s first tests turned about: the spheres `spheres` (bits `0..4` of `open`) that one ray
 /// from `anchor + rel` along `d` does not reject at once, each lane the scalar test's first
 /// steps against its sphere (`r²` rounded per lane as the scalar `r * r`). A leaf of the
 /// hierarchy asked at once: most of its spheres are clear misses, and a ray that would test

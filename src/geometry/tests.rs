@@ -305,7 +305,8 @@ mod lane_tests {
     }
 
     /// Every lane that `leaving_blocks4` decides is the scalar `leaving_blocks`, and every lane
-    /// that `leaving_open4` rejects a miss of the scalar `leaving_hit`, for shadow (or mirror) rays
+    /// that `leaving_hit4` decides the scalar `leaving_hit` (its `t` and `f`, bit for bit, each
+    /// lane to a limit of its own), for shadow (or mirror) rays
     /// from just above spheres of radius 10⁻² … 10⁶ (the hit given as an anchor and an offset,
     /// as shading gives it), many of them grazing the sphere to within 10⁻¹² … 10⁻³ of its
     /// radius, where the clear-miss margin must cover the error of an f32 `c` that cancels; and
@@ -318,7 +319,7 @@ mod lane_tests {
         let (mut claimed, mut misses, mut grazing) = (0u32, 0u32, 0u32);
         let (mut open_claimed, mut open_misses) = (0u32, 0u32);
         let (mut blocks_decided, mut blocks_all) = (0u32, 0u32);
-        let (mut mirror_rejected, mut mirror_misses) = (0u32, 0u32);
+        let (mut mirror_rejected, mut mirror_misses, mut mirror_hits) = (0u32, 0u32, 0u32);
         let unit = |g: &mut TestRng| loop {
             let v = [g.unit() - 0.5, g.unit() - 0.5, g.unit() - 0.5].map(f64::from);
             let n = libm::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -376,24 +377,38 @@ mod lane_tests {
                 tmax,
                 0b1111,
             );
-            // The same rays as mirror rays: `leaving_open4` rejects only lanes that miss.
-            let open = leaving_open4(
-                V::from_lanes(ls.map(|l| l.0)),
-                V::from_lanes(ls.map(|l| l.1)),
+            // The same rays as mirror rays, each lane to a limit of its own: `leaving_hit4`
+            // decides a lane as the scalar test does, to the bits of `t` and `f`.
+            let limits: [f32; 4] = core::array::from_fn(|l| match (case as usize + l) % 3 {
+                0 => 1.0,
+                1 => f32::INFINITY,
+                _ => 30.0,
+            });
+            let mirror = leaving_hit4(
+                (
+                    V::from_lanes(ls.map(|l| l.0)),
+                    V::from_lanes(ls.map(|l| l.1)),
+                ),
                 &s,
                 V::from_lanes(ls.map(|l| l.2)),
+                (crate::shading::T_EPS, crate::simd::F::from(limits)),
                 0b1111,
             );
             for (l, &(anchor, rel, d, close, _)) in ls.iter().enumerate() {
-                let found = Prepared::leaving_hit(anchor, rel, &s, d, f32::MIN_POSITIVE, tmax);
-                let rejected = open & (1 << l) == 0;
+                let found =
+                    Prepared::leaving_hit(anchor, rel, &s, d, crate::shading::T_EPS, limits[l]);
+                let bits = |(t, f): (f32, Vec3)| (t.to_bits(), [f.x, f.y, f.z].map(f32::to_bits));
+                let lanes = (mirror.hit & (1 << l) != 0).then(|| (mirror.t[l], mirror.f.lane(l)));
+                let decided = mirror.undecided & (1 << l) == 0;
                 assert!(
-                    !rejected || found.is_none(),
-                    "case {case} lane {l}: {s:?} anchor {anchor:?} rel {rel:?} d {d:?} rejected"
+                    !decided || found.map(bits) == lanes.map(bits),
+                    "case {case} lane {l}: {s:?} anchor {anchor:?} rel {rel:?} d {d:?}: \
+                     {lanes:?} in lanes, {found:?} alone"
                 );
+                mirror_hits += (decided && found.is_some()) as u32;
                 if close.is_infinite() && found.is_none() {
                     mirror_misses += 1;
-                    mirror_rejected += rejected as u32;
+                    mirror_rejected += decided as u32;
                 }
             }
             for (l, &(anchor, rel, d, close, far)) in ls.iter().enumerate() {
@@ -427,10 +442,11 @@ mod lane_tests {
             "{open_claimed} of {open_misses} open misses claimed ({claimed} of {misses} in \
              all), {grazing} grazing"
         );
-        // Most misses in any direction are rejected before the scalar test.
+        // Most misses in any direction are decided in lanes, and hits from afar are found.
         assert!(
-            mirror_rejected > mirror_misses - mirror_misses / 5,
-            "{mirror_rejected} of {mirror_misses} open misses of mirror rays rejected in lanes"
+            mirror_rejected > mirror_misses - mirror_misses / 5 && mirror_hits > 1000,
+            "{mirror_rejected} of {mirror_misses} open misses of mirror rays decided in lanes, \
+             {mirror_hits} hits"
         );
         // Blocks from origins more than a radius away (another sphere's shadow rays): the
         // lanes decide them, but for those that graze within the margins.

@@ -5,7 +5,8 @@
 //! or the same sphere as their neighbours'.
 
 use super::*;
-use crate::geometry::{exit_root, leaving_open4, offset_is_near, Prepared};
+use crate::geometry::{exit_t, leaving_hit4, offset_is_near, Prepared};
+use crate::math::IeeeCmp;
 use crate::scene::hit_vectors;
 use crate::shading::{Hits4, T_EPS};
 use crate::simd::{ones, F, V};
@@ -43,19 +44,28 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         // closest hit so far as the limit.
         let mut found: [Found; 4] = [None; 4];
         let mut tmax = [f32::INFINITY; 4];
-        for l in ones(active) {
-            let f = h.offset.lane(l);
-            if let Some(t) = exit_root(f, d.lane(l)) {
-                tmax[l & 3] = t;
-                found[l & 3] = Some((t, si, f));
-            }
+        // `exit_root` in lanes: those whose ray leaves its sphere ahead (none off a ground
+        // seen from above).
+        let t = exit_t(h.offset, d);
+        let ahead = F::bits(t.gt(F::splat(0.0)) & t.lt(F::splat(f32::INFINITY)));
+        let ts = t.to_array();
+        for l in ones(ahead & active) {
+            let t = ts[l & 3];
+            tmax[l & 3] = t;
+            found[l & 3] = Some((t, si, h.offset.lane(l)));
         }
         let spheres = scene.spheres();
         for (j, s) in spheres.iter().enumerate() {
             if j == si {
                 continue;
             }
-            for l in ones(leaving_open4(h.anchor, h.rel, s, d, active)) {
+            let lanes = leaving_hit4((h.anchor, h.rel), s, d, (T_EPS, F::from(tmax)), active);
+            for l in ones(lanes.hit) {
+                let t = lanes.t[l & 3];
+                tmax[l & 3] = t;
+                found[l & 3] = Some((t, j, lanes.f.lane(l)));
+            }
+            for l in ones(lanes.undecided) {
                 let (anchor, rel) = (h.anchor.lane(l), h.rel.lane(l));
                 let hit = Prepared::leaving_hit(anchor, rel, s, d.lane(l), T_EPS, tmax[l & 3]);
                 if let Some((t, f)) = hit {
