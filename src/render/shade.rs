@@ -215,17 +215,23 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         crate::shading::follow_secondary(self.scene, ray, h, colour, local, EverySphere)
     }
 
-    /// [`Frame::follow_every`] on from `h`, the hit of a mirror ray `ray` of depth 1 and
-    /// weight `weight` (the lanes' `mirror4` found and shaded it; `colour` includes it): the
-    /// same walk, one copy.
+    /// [`Frame::follow_every`] on from `h`, the hit of a mirror ray `ray` of depth `depth`
+    /// and weight `weight` (the lanes' `mirror4` found and shaded it; `colour` includes it):
+    /// the same walk, one copy.
     #[cfg(lanes)]
     #[inline(never)]
-    pub(super) fn follow_on(&self, ray: &Ray, h: &Hit, colour: Color, weight: Color) -> Color {
+    pub(super) fn follow_on(
+        &self,
+        ray: &Ray,
+        h: &Hit,
+        colour: Color,
+        (weight, depth): (Color, u8),
+    ) -> Color {
         let local = self.lit_every();
         crate::shading::walk_on(
             self.scene,
             (ray, h),
-            (colour, weight, 1),
+            (colour, weight, depth),
             local,
             EverySphere,
         )

@@ -18,16 +18,34 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The colours of the lanes `active` of the primary hits `h`, seen along `dir` with local
     /// colours `colour`, into `out`, where their sphere mirrors and does not refract: the
     /// mirror rays found together (sphere by sphere, the clear misses decided in lanes) and
-    /// shaded in lanes, one pass per sphere they hit; deeper rays walked lane by lane.
-    /// Returns the lanes left to the scalar walk: all of them for glass, and those whose ray
-    /// meets its own sphere again, whose hit point is far from the sphere (`hit_point_far`)
-    /// or whose shading lanes do not decide.
+    /// shaded in lanes, one pass per sphere they hit, and so on down their paths
+    /// ([`Frame::mirror_from`]). Returns the lanes left to the scalar walk: all of them for
+    /// glass, and those whose ray meets its own sphere again, whose hit point is far from the
+    /// sphere (`hit_point_far`) or whose shading lanes do not decide.
     #[inline(always)]
     pub(super) fn mirror4(
         &self,
         h: &Hits4,
         dir: V,
         colour: V,
+        active: u32,
+        out: &mut [Vec3; 4],
+    ) -> u32 {
+        self.mirror_from(h, dir, colour, (Color::ONE, 0), active, out)
+    }
+
+    /// [`Frame::mirror4`] from the hits `h` at `depth` (0 for primary hits) on paths of weight
+    /// `weight`, their colours so far `colour`: the walk's step (`walk`: the mirror ray of
+    /// weight `weight ⊙ k`, its hit's local colour added) in lanes, then, where the hit
+    /// mirrors too and the depth allows, the next step, whose undecided lanes take the scalar
+    /// walk from that hit. Out of line: it calls itself.
+    #[inline(never)]
+    fn mirror_from(
+        &self,
+        h: &Hits4,
+        dir: V,
+        colour: V,
+        (weight, depth): (Color, u8),
         active: u32,
         out: &mut [Vec3; 4],
     ) -> u32 {
@@ -74,8 +92,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 }
             }
         }
-        // `walk`'s sum: the branch's weight is `Color::ONE ⊙ k` at depth 1.
-        let weight = Color::ONE.mul_elem(m.mirror);
+        // `walk`'s sum: the branch's weight is the path's `⊙ k`.
+        let weight = weight.mul_elem(m.mirror);
+        let depth = depth + 1;
         let (mut left, mut todo) = (0u32, 0u32);
         for l in ones(active) {
             match found[l & 3] {
@@ -130,16 +149,22 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 left |= group;
                 continue;
             };
-            let further = scene.sends_secondary(j);
+            let mut sums = [Vec3::ZERO; 4];
             for l in ones(group) {
                 let mut c = colour.lane(l);
                 c += weight.mul_elem(local.lane(l));
-                if further {
+                sums[l & 3] = c;
+                out[l & 3] = c;
+            }
+            // `walk_on`: the rays of hits short of the deepest.
+            if scene.sends_secondary(j) && depth < scene.max_depth() {
+                let sums = V::from_lanes(sums);
+                let rest = self.mirror_from(&hit, d, sums, (weight, depth), group, out);
+                for l in ones(rest) {
                     let (from, to) = (h.hit(l), hit.hit(l));
                     let ray = Ray::new(from.point(), d.lane(l));
-                    c = self.follow_on(&ray, &to, c, weight);
+                    out[l & 3] = self.follow_on(&ray, &to, sums.lane(l), (weight, depth));
                 }
-                out[l & 3] = c;
             }
         }
         left
