@@ -12,9 +12,10 @@
 //!
 //! Built where the capacity is above 8 (`Frame::SWEEPS`: a microcontroller's scene links none of
 //! it) and the scene has more than [`MIN_SPHERES`] spheres, for scenes with secondary rays.
-//! Below that a ray tests every sphere, and hosts find and shade the first mirror rays of four
-//! pixels together (`lanes/mirror.rs`): at 48 spheres the hierarchy took 1.05 times as long,
-//! all mirrors, and 1.02 times all glass; at 56, 0.92 and 0.89 times (`bench/ab.sh`).
+//! Below that a ray tests every sphere, and hosts find and shade the mirror rays of four
+//! pixels together (`lanes/mirror.rs`): all glass, at 48 spheres the hierarchy took 1.02 times
+//! as long and at 56 0.89 times; all mirrors, at 56 1.03 times and at 64 0.93 times
+//! (`bench/ab.sh`). Glass, whose rays the lanes do not take, sets the one threshold.
 
 use super::*;
 use crate::math::IeeeCmp;

@@ -379,7 +379,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     ) -> crate::simd::V {
         let eye = self.camera.eye();
         let mut out = [Vec3::ZERO; 4];
-        // The first mirror rays in lanes where the walk tests every sphere.
+        // The mirror rays in lanes where the walk tests every sphere.
         let left = if Self::SWEEPS && self.culls {
             active & 0b1111
         } else {
