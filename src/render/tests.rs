@@ -48,6 +48,47 @@ mod lane_tests {
             }
         }
     }
+
+    /// `SRGB_STEPS` holds, for each byte from 1 to 255, the least f32 whose byte by the curve
+    /// (`srgb_curve_byte`, through `powf`) is that byte or more, and `srgb_byte` gives the
+    /// curve's byte: at each step and the f32 just below it, over 4096 f32 either side of each
+    /// step (where `powf`'s rounding could make the curve's bytes step back), every 509th f32
+    /// of [0, 1], and outside it (negatives, above 1, infinities, NaNs, zeros, subnormals).
+    #[test]
+    fn srgb_steps_are_the_curves_bytes() {
+        let below = |x: f32| f32::from_bits(x.to_bits() - 1);
+        let check = |x: f32| {
+            assert_eq!(srgb_byte(x), srgb_curve_byte(x), "{x:e} ({:#x})", x.to_bits());
+        };
+        for (k, &step) in SRGB_STEPS.iter().enumerate() {
+            assert_eq!(usize::from(srgb_curve_byte(step)), k + 1, "step {k}: {step:e}");
+            assert_eq!(usize::from(srgb_curve_byte(below(step))), k, "below step {k}");
+            let b = step.to_bits();
+            for bits in b - 4096..=b + 4096 {
+                check(f32::from_bits(bits));
+            }
+        }
+        for bits in (0..=1.0f32.to_bits()).step_by(509) {
+            check(f32::from_bits(bits));
+        }
+        for x in [
+            -0.0,
+            -1e-45,
+            -0.5,
+            -f32::MAX,
+            f32::NEG_INFINITY,
+            1.0,
+            1.0 + f32::EPSILON,
+            2.0,
+            f32::MAX,
+            f32::INFINITY,
+            f32::NAN,
+            -f32::NAN,
+            1e-45,
+        ] {
+            check(x);
+        }
+    }
 }
 
 #[cfg(all(test, lanes))]
