@@ -58,11 +58,24 @@ mod lane_tests {
     fn srgb_steps_are_the_curves_bytes() {
         let below = |x: f32| f32::from_bits(x.to_bits() - 1);
         let check = |x: f32| {
-            assert_eq!(srgb_byte(x), srgb_curve_byte(x), "{x:e} ({:#x})", x.to_bits());
+            assert_eq!(
+                srgb_byte(x),
+                srgb_curve_byte(x),
+                "{x:e} ({:#x})",
+                x.to_bits()
+            );
         };
         for (k, &step) in SRGB_STEPS.iter().enumerate() {
-            assert_eq!(usize::from(srgb_curve_byte(step)), k + 1, "step {k}: {step:e}");
-            assert_eq!(usize::from(srgb_curve_byte(below(step))), k, "below step {k}");
+            assert_eq!(
+                usize::from(srgb_curve_byte(step)),
+                k + 1,
+                "step {k}: {step:e}"
+            );
+            assert_eq!(
+                usize::from(srgb_curve_byte(below(step))),
+                k,
+                "below step {k}"
+            );
             let b = step.to_bits();
             for bits in b - 4096..=b + 4096 {
                 check(f32::from_bits(bits));

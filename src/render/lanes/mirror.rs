@@ -19,7 +19,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// colours `colour`, into `out`, where their sphere mirrors and does not refract: the
     /// mirror rays found together (sphere by sphere, the clear misses decided in lanes) and
     /// shaded in lanes, one pass per sphere they hit, and so on down their paths
-    /// ([`Frame::mirror_from`]). Returns the lanes left to the scalar walk: all of them for
+    /// ([`Frame::mirror_step`]). Returns the lanes left to the scalar walk: all of them for
     /// glass, and those whose ray meets its own sphere again, whose hit point is far from the
     /// sphere (`hit_point_far`) or whose shading lanes do not decide.
     #[inline(always)]
@@ -31,16 +31,31 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         active: u32,
         out: &mut [Vec3; 4],
     ) -> u32 {
-        self.mirror_from(h, dir, colour, (Color::ONE, 0), active, out)
+        self.mirror_step(h, dir, colour, (Color::ONE, 0), active, out)
+    }
+
+    /// [`Frame::mirror_step`] out of line, for the steps below the first: it calls itself.
+    #[inline(never)]
+    fn mirror_from(
+        &self,
+        h: &Hits4,
+        dir: V,
+        colour: V,
+        (weight, depth): (Color, u8),
+        active: u32,
+        out: &mut [Vec3; 4],
+    ) -> u32 {
+        self.mirror_step(h, dir, colour, (weight, depth), active, out)
     }
 
     /// [`Frame::mirror4`] from the hits `h` at `depth` (0 for primary hits) on paths of weight
     /// `weight`, their colours so far `colour`: the walk's step (`walk`: the mirror ray of
     /// weight `weight ⊙ k`, its hit's local colour added) in lanes, then, where the hit
     /// mirrors too and the depth allows, the next step, whose undecided lanes take the scalar
-    /// walk from that hit. Out of line: it calls itself.
-    #[inline(never)]
-    fn mirror_from(
+    /// walk from that hit. Inline in the first step, where most groups end: a call for every
+    /// group costs more than the second copy.
+    #[inline(always)]
+    fn mirror_step(
         &self,
         h: &Hits4,
         dir: V,
