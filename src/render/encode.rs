@@ -76,8 +76,9 @@ pub(super) fn srgb(c: f32) -> f32 {
 }
 
 /// The least f32 that [`srgb_curve_byte`] takes to each byte from 1 to 255, in order (hosts):
-/// that byte function does not decrease with its channel (every f32 of [0, 1] checked, and
-/// the clamp decides the rest), so a channel's byte is the number of these at or below it.
+/// that byte function does not decrease with its channel (on [0, 1]; the clamp decides the
+/// rest), so a channel's byte is the number of these at or below it (the test
+/// `srgb_steps_are_the_curves_bytes` checks each step and the f32 about it).
 #[cfg(lanes)]
 #[rustfmt::skip]
 pub(super) const SRGB_STEPS: [f32; 255] = [

@@ -1,8 +1,8 @@
-//! The mirror rays of four neighbouring primary hits on one mirror, found and shaded in lanes:
-//! each lane takes the scalar walk's first step ([`find_from`](crate::shading::find_from),
-//! then the shading of the hit) with the scalar operations in the scalar order, so each
-//! pixel gets the scalar walk's colour, bit for bit. Most mirror rays of a scene meet nothing
-//! or the same sphere as their neighbours'.
+//! The mirror rays of four neighbouring primary hits on one mirror, found and shaded in lanes,
+//! and those of their hits where these mirror too: each lane takes the scalar walk's steps
+//! ([`find_from`](crate::shading::find_from), then the shading of the hit) with the scalar
+//! operations in the scalar order, so each pixel gets the scalar walk's colour, bit for bit.
+//! Most mirror rays of a scene meet nothing or the same sphere as their neighbours'.
 
 use super::*;
 use crate::geometry::{exit_t, leaving_hit4, offset_is_near, Prepared};
@@ -17,7 +17,7 @@ type Found = Option<(f32, usize, Vec3)>;
 impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// The colours of the lanes `active` of the primary hits `h`, seen along `dir` with local
     /// colours `colour`, into `out`, where their sphere mirrors and does not refract: the
-    /// mirror rays found together (sphere by sphere, the clear misses decided in lanes) and
+    /// mirror rays found together (sphere by sphere, misses and most hits decided in lanes) and
     /// shaded in lanes, one pass per sphere they hit, and so on down their paths
     /// ([`Frame::mirror_step`]). Returns the lanes left to the scalar walk: all of them for
     /// glass, and those whose ray meets its own sphere again, whose hit point is far from the
