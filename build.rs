@@ -10,7 +10,8 @@
 //! `cfg(size_opt)` at opt-level "s" or "z": the scalar render path then keeps one out-of-line
 //! copy of the hit record and of the shading, which the speed builds also inline into the pixel
 //! loop (`Frame::shade_stored`), and no second primary test for an eye outside a sphere: the
-//! same operations either way (`src/render/config.rs`: `INLINE_SHADING`, `OUTSIDE_TEST`).
+//! same operations either way (`src/render/config.rs`: `INLINE_SHADING`, `OUTSIDE_TEST`,
+//! which features `inline-shading` and `outside-test` turn on in size builds too).
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(lanes, no_dirs, size_opt, docsrs)");
     println!("cargo::rerun-if-changed=build.rs");

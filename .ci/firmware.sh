@@ -26,6 +26,13 @@ for board in m4f m0; do
   examples/firmware/run.sh "$board"
 done
 
+# The size build with one of the speed build's copies kept (features outside-test and
+# inline-shading, one at a time: code no other build has): the same CRCs.
+for features in outside-test inline-shading; do
+  echo "== FEATURES=$features examples/firmware/run.sh m4f"
+  FEATURES=$features examples/firmware/run.sh m4f
+done
+
 # The published scenes people compare with (FTB's, tinyraytracer's): the host's CRCs on both
 # boards, and their instructions a pixel.
 for board in m4f m0; do

@@ -102,6 +102,9 @@
 //!   on it: [`Error`] is a `core::error::Error` in every build.
 //! - `defmt`: `defmt::Format` for [`Error`] and the small `Copy` types ([`Vec3`], [`Sphere`],
 //!   [`Material`], [`Light`], [`Camera`], [`RenderOptions`], …), to log them from firmware.
+//! - `outside-test`, `inline-shading`: size builds (`size_opt` below) keep the second primary
+//!   test for an eye outside a sphere, and the shading inlined into the pixel loop, which they
+//!   otherwise leave out for flash: speed for flash, the same pixels.
 //!
 //! ## Build-time cfgs
 //!
@@ -111,7 +114,9 @@
 //! - `lanes` on x86-64, on AArch64 with NEON and on wasm32 with simd128: primary rays, hit records and shading four
 //!   pixels at a time in vector registers (`wide`'s `f32x4`).
 //! - `no_dirs` on soft-float Arm (Cortex-M0): spans keep no view directions.
-//! - `size_opt` at opt-level `"s"` or `"z"`: the scalar path keeps its shading out of line.
+//! - `size_opt` at opt-level `"s"` or `"z"`: the scalar path keeps its shading out of line
+//!   and has one primary test, unless features `inline-shading` and `outside-test` say
+//!   otherwise.
 //!
 //! `MICRORAY_HOST_AS=m4f` (or `m0`) in the environment builds a host with that board's render
 //! path, so that the host's tests check it.

@@ -31,14 +31,17 @@ pub(super) const OFFS: usize = if KEEPS_OFFSETS { SPAN * KEPT } else { 0 };
 /// `OFFS` is 0, test no comparison that is always false (clippy's `absurd_extreme_comparisons`).
 pub(super) const KEEPS_OFFSETS: bool = cfg!(lanes);
 /// Whether the scalar render path shades each stored primary hit inline in the pixel loop
-/// (`Frame::shade_stored`): the speed builds of Cortex-M. Not on hosts, whose lanes shade
-/// spans, nor in size builds (`cfg(size_opt)`), whose flash has no room for the second copy.
-pub(super) const INLINE_SHADING: bool = !cfg!(lanes) && !cfg!(size_opt);
+/// (`Frame::shade_stored`): the speed builds of Cortex-M, and size builds (`cfg(size_opt)`)
+/// with feature `inline-shading`; other size builds leave the second copy out for flash. Not
+/// on hosts, whose lanes shade spans. Without it the M4F takes 15 % more instructions a pixel
+/// at opt 3 (docs/firmware.md has the builds).
+pub(super) const INLINE_SHADING: bool =
+    !cfg!(lanes) && (!cfg!(size_opt) || cfg!(feature = "inline-shading"));
 /// Whether scalar primary rays take the shorter test for an eye outside the sphere
-/// ([`Prepared::hit_outside`], the same answers as [`Prepared::hit`]): not in size builds
-/// (`cfg(size_opt)`), whose flash budget has no room for the second test. Without it the M4F
-/// takes about 8 % more instructions a pixel at opt 3 (`examples/firmware/run.sh m4f`).
+/// ([`Prepared::hit_outside`], the same answers as [`Prepared::hit`]): all but size builds
+/// (`cfg(size_opt)`) without feature `outside-test`, which leave the second test out for
+/// flash. Without it the M4F takes 8 % more instructions a pixel at opt 3.
 #[cfg(not(lanes))]
-pub(super) const OUTSIDE_TEST: bool = !cfg!(size_opt);
+pub(super) const OUTSIDE_TEST: bool = !cfg!(size_opt) || cfg!(feature = "outside-test");
 // `Cull::done` has a bit per span pixel.
 const _: () = assert!(SPAN <= 32);

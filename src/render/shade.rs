@@ -32,9 +32,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// loop (where [`INLINE_SHADING`]): the record stays in registers instead of going through
     /// memory to the out-of-line `make_hit` and shading closure. The same functions
     /// (`make_hit_inline`, `shade_lit_inline`), so the same bits; a second inlined copy of
-    /// their code, which the size builds have no flash for. Without it the M4F takes about 10 %
-    /// more instructions a pixel at opt 3 (`examples/firmware/run.sh m4f`); CI renders the
-    /// host's scenes through this path too (`MICRORAY_HOST_AS=m4f`).
+    /// their code, which size builds leave out for flash unless feature `inline-shading` keeps
+    /// it (its cost in instructions: `INLINE_SHADING`); CI renders the host's scenes through
+    /// this path too (`MICRORAY_HOST_AS=m4f`).
     #[inline(always)]
     pub(super) fn shade_stored(
         &self,
@@ -160,9 +160,10 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// the spheres that can block shadow rays from this primary hit; secondary hits and missing
     /// `lists` test every sphere, or those the frame's hierarchy names.
     ///
-    /// Out of line where [`INLINE_SHADING`] (Cortex-M speed builds): the pixel loop shades its
-    /// stored hits itself and calls this for the few others; inlined there it would only
-    /// lengthen that loop.
+    /// Out of line in Cortex-M speed builds, where [`INLINE_SHADING`]: the pixel loop shades
+    /// its stored hits itself and calls this for the few others; inlined there it would only
+    /// lengthen that loop. Size builds leave the choice to the compiler, with feature
+    /// `inline-shading` too (68 bytes less and 1.5 instructions a pixel fewer on the M4F).
     #[cfg_attr(any(lanes, size_opt), inline)]
     #[cfg_attr(not(any(lanes, size_opt)), inline(never))]
     pub(super) fn shade_from(
