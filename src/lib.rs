@@ -30,7 +30,7 @@
 //! scene.add_light(Light::Point { position: Vec3::new(3.0, 5.0, 4.0), intensity: Color::splat(0.8) })?;
 //!
 //! let camera = Camera::new(Vec3::new(0.0, 1.0, 6.0), Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.0, 1.0, 0.0), 45.0, 64, 48)?;
-//! let mut storage = FrameStorage::new(); // the per-frame tables, small at this capacity
+//! let mut storage = FrameStorage::small(); // the per-frame tables of at most 8 spheres
 //! let frame = Frame::new(&scene, &camera, RenderOptions::default(), &mut storage)?;
 //! let mut row = [Rgb888::new(0, 0, 0); 64]; // one row at a time: no framebuffer needed
 //! for j in 0..48 {

@@ -1,6 +1,7 @@
 //! A frame's tables live in storage the caller provides: a frame builds and renders on a thread
 //! with a small stack, a fraction of its tables, at 1024 spheres (`Scene<1024, 32>`) and at the
-//! desktop capacity (`Scene<16384, 32>`), and one storage serves frame after frame.
+//! desktop capacity (`Scene<16384, 32>`), one storage serves frame after frame, and the `Small`
+//! layout of at most 8 spheres renders as the others do.
 
 use embedded_graphics::pixelcolor::Rgb888;
 use microray::render::Heap;
@@ -148,4 +149,55 @@ fn a_scene_copied_to_another_capacity_is_the_same_scene() {
         Err(microray::Error::TooManyLights)
     );
     assert!(dark.spheres().is_empty());
+}
+
+/// A [`Small`] storage, which holds no sweeps and no hierarchy, renders every test scene of at
+/// most 8 spheres (shadows, mirrors, glass, supersampling, one storage for all of them in turn)
+/// exactly as an [`Inline`] storage of that capacity does and as the desktop capacity does,
+/// whose frames build both; and it takes less than half the memory.
+#[test]
+fn small_storage_renders_as_inline_storage() {
+    use microray::render::{Inline, Small};
+    type Few = microray::Scene<8, { scene_file::LIGHTS }>;
+    let mut small: FrameStorage<8, { scene_file::LIGHTS }, Small> = FrameStorage::small();
+    let mut inline: Box<FrameStorage<8, { scene_file::LIGHTS }, Inline>> =
+        Box::new(FrameStorage::new());
+    for name in [
+        "flat",
+        "glass",
+        "glass_inside",
+        "glass_mirror",
+        "lit",
+        "mirror",
+        "room",
+        "supersampled_srgb",
+        "tilted",
+    ] {
+        let path = format!("tests/data/{name}.toml");
+        let (file, camera): (Box<Desktop>, _) = load(&path);
+        let desktop = render(&file, &camera, &mut desktop_storage());
+        assert!(
+            desktop.iter().any(|&p| p != desktop[0]),
+            "{name}: a blank image proves nothing"
+        );
+        let mut few: Box<Few> = Box::new(microray::Scene::new());
+        few.copy_from(&file.scene).unwrap();
+        let image = |frame: Frame<'_, 8, { scene_file::LIGHTS }>| {
+            let mut image = vec![Rgb888::new(0, 0, 0); desktop.len()];
+            frame.render(&mut image).unwrap();
+            image
+        };
+        let from_small = image(Frame::new(&few, &camera, file.options, &mut small).unwrap());
+        let from_inline = image(Frame::new(&few, &camera, file.options, &mut *inline).unwrap());
+        assert!(
+            from_small == from_inline,
+            "{name}: Small differs from Inline"
+        );
+        assert!(
+            from_small == desktop,
+            "{name}: Small differs from the desktop capacity"
+        );
+    }
+    let (small, inline) = (size_of_val(&small), size_of_val(&*inline));
+    assert!(2 * small < inline, "{small} bytes against {inline}");
 }

@@ -170,7 +170,8 @@ struct Tables<'a, const S: usize, const L: usize> {
     pile: &'a [f32],
     #[cfg(lanes)]
     box_rows: &'a [PixelBox],
-    bvh: &'a Bvh<S>,
+    /// `None` where the storage holds no hierarchy ([`Small`]).
+    bvh: Option<&'a Bvh<S>>,
 }
 
 /// Sphere ids: a row's, a span's or a light's candidates.
@@ -219,17 +220,17 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 eye: &storage.eye,
                 boxes: &storage.boxes,
                 lights: &storage.lights,
-                sweeps: storage.sweeps.get(..storage.swept).unwrap_or(&[]),
+                sweeps: storage.built_sweeps(),
                 all: &storage.all,
                 near: &storage.near,
                 #[cfg(lanes)]
                 pile: &storage.pile,
                 #[cfg(lanes)]
                 box_rows: &storage.box_rows,
-                bvh: &storage.bvh,
+                bvh: storage.bvh(),
             },
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),
-            culls: Self::SWEEPS && storage.bvh.built(),
+            culls: Self::SWEEPS && storage.bvh().is_some_and(|b| b.built()),
         })
     }
 

@@ -106,12 +106,18 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         crate::shading::follow_secondary(self.scene, ray, h, colour, local, EverySphere)
     }
 
+    /// The frame's hierarchy, which `culls` says it has; an empty one otherwise, which only
+    /// the frames that cull secondary rays link (`SWEEPS`), never a [`Small`] storage's.
+    fn bvh(&self) -> &'a Bvh<S> {
+        self.tables.bvh.unwrap_or(Bvh::NONE)
+    }
+
     /// [`Frame::follow_secondary`] through the hierarchy. Out of line: the pixel loops inline
     /// the other walk's call, and a second beside it cost the mirror and glass scenes 3–6 %
     /// of their frame time (a larger loop, and the shadow test no longer inlined).
     #[inline(never)]
     pub(super) fn follow_culled(&self, ray: &Ray, h: &Hit, colour: Color) -> Color {
-        let (local, find) = (self.bounce::<true>(), Culled(self.tables.bvh));
+        let (local, find) = (self.bounce::<true>(), Culled(self.bvh()));
         crate::shading::follow_secondary(self.scene, ray, h, colour, local, find)
     }
 
@@ -128,7 +134,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let cands = list.iter().map(|s| s.index());
             return in_shadow_among(self.scene, hit, light, v, consts, cands);
         }
-        let cands = self.tables.bvh.shadow_candidates(hit, light, v);
+        let cands = self.bvh().shadow_candidates(hit, light, v);
         in_shadow_among(self.scene, hit, light, v, consts, cands)
     }
 

@@ -14,7 +14,9 @@ use super::*;
 /// where it lives: on the heap on a desktop ([`FrameStorage::on_heap`], each table boxed on
 /// its own; `Box::new(FrameStorage::new())` only where an unoptimised build may hold the
 /// whole storage on the stack first), in a `static` or on the stack of a microcontroller
-/// ([`FrameStorage::new`], the [`Inline`] layout). A [`Frame`] borrows it for its lifetime;
+/// ([`FrameStorage::new`], the [`Inline`] layout; at a capacity of 8 spheres or less
+/// [`FrameStorage::small`], the [`Small`] layout, without the tables only larger capacities
+/// use). A [`Frame`] borrows it for its lifetime;
 /// building another frame in the same storage overwrites it, so one storage serves every frame
 /// of an animation.
 ///
@@ -40,14 +42,14 @@ pub struct FrameStorage<const S: usize, const L: usize, P: Place = Inline> {
     /// Per light, in scene order, when shadows are on and `SWEEPS`: its spheres sorted for
     /// the span culling, in the first `swept` slots (kept, and cleared in place, from frame to
     /// frame: no sweep is built elsewhere and moved in).
-    pub(super) sweeps: P::Slot<[Sweep<S>; L]>,
+    pub(super) sweeps: P::Culling<[Sweep<S>; L]>,
     pub(super) swept: usize,
     /// Where a sweep is sorted before it is split into its fields (`Sweep::fill`): one for
     /// all the lights, so that no capacity-sized list is built on the stack.
-    pub(super) entries: P::Slot<heapless::Vec<Entry, S>>,
+    pub(super) entries: P::Culling<heapless::Vec<Entry, S>>,
     /// The room of a sweep's radix sort (hosts): as many entries again.
     #[cfg(lanes)]
-    pub(super) sort_room: P::Slot<SortRoom<S>>,
+    pub(super) sort_room: P::Culling<SortRoom<S>>,
     /// Every sphere's index: the candidate list of a shadow ray that must test them all, so
     /// that every shadow ray walks a plain slice.
     pub(super) all: P::Slot<List<S>>,
@@ -60,7 +62,7 @@ pub struct FrameStorage<const S: usize, const L: usize, P: Place = Inline> {
     #[cfg(lanes)]
     pub(super) box_rows: P::Slot<heapless::Vec<PixelBox, { super::lanes::BOX_BLOCKS }>>,
     /// The hierarchy that culls secondary rays, where the scene has them and `SWEEPS`.
-    pub(super) bvh: P::Slot<Bvh<S>>,
+    pub(super) bvh: P::Culling<Bvh<S>>,
 }
 
 impl<const S: usize, const L: usize, P: Place> core::fmt::Debug for FrameStorage<S, L, P> {
@@ -69,24 +71,49 @@ impl<const S: usize, const L: usize, P: Place> core::fmt::Debug for FrameStorage
             .field("eye", &*self.eye)
             .field("boxes", &*self.boxes)
             .field("lights", &*self.lights)
-            .field("sweeps", &self.sweeps.get(..self.swept))
+            .field("sweeps", &self.built_sweeps())
             .field("all", &*self.all)
             .field("near", &*self.near)
-            .field("bvh", &*self.bvh)
+            .field("bvh", &self.bvh.get())
             .finish()
     }
 }
 
 /// Where a [`FrameStorage`]'s tables live: [`Inline`] in the storage itself (no heap: on the
-/// stack, in a `static` or in a `Box` of the whole), or [`Heap`] (feature `std`) each table in
-/// a box of its own.
+/// stack, in a `static` or in a `Box` of the whole), [`Small`] likewise but without the tables
+/// that only capacities above 8 spheres use, or [`Heap`] (feature `std`) each table in a box
+/// of its own.
 pub trait Place: sealed::Sealed {
     /// A table of type `T`, as the storage holds it.
     type Slot<T>: core::ops::DerefMut<Target = T>;
+    /// A table that only capacities above 8 spheres use (the lights' sweeps, the hierarchy):
+    /// a [`Place::Slot`], or nothing at all ([`Absent`], in [`Small`]).
+    type Culling<T>: sealed::Maybe<T>;
 }
 
 mod sealed {
     pub trait Sealed {}
+
+    /// A table the storage may not hold ([`super::Place::Culling`]).
+    pub trait Maybe<T> {
+        fn get(&self) -> Option<&T>;
+        fn get_mut(&mut self) -> Option<&mut T>;
+    }
+}
+
+use sealed::Maybe;
+
+/// A table that a [`Small`] storage does not hold: nothing, not even room for it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Absent<T>(core::marker::PhantomData<T>);
+
+impl<T> Maybe<T> for Absent<T> {
+    fn get(&self) -> Option<&T> {
+        None
+    }
+    fn get_mut(&mut self) -> Option<&mut T> {
+        None
+    }
 }
 
 /// A [`FrameStorage`] that holds its tables itself: [`FrameStorage::new`], a `const fn`.
@@ -110,9 +137,40 @@ impl<T> core::ops::DerefMut for InlineSlot<T> {
     }
 }
 
+impl<T> Maybe<T> for InlineSlot<T> {
+    fn get(&self) -> Option<&T> {
+        Some(&self.0)
+    }
+    fn get_mut(&mut self) -> Option<&mut T> {
+        Some(&mut self.0)
+    }
+}
+
 impl sealed::Sealed for Inline {}
 impl Place for Inline {
     type Slot<T> = InlineSlot<T>;
+    type Culling<T> = InlineSlot<T>;
+}
+
+/// A [`FrameStorage`] of at most 8 spheres that holds its tables itself, as [`Inline`] does,
+/// but for those that only larger capacities use: a frame of 8 spheres or less sorts no
+/// sweeps and builds no hierarchy (`Frame`'s culling is decided by the capacity, at compile
+/// time), so it renders the same pixels from less memory ([`FrameStorage::small`]): on a
+/// Cortex-M, a quarter of [`Inline`]'s at `<5, 2>`. The layout for a microcontroller.
+///
+/// ```
+/// use microray::render::{FrameStorage, Small};
+///
+/// static STORAGE: FrameStorage<5, 2, Small> = FrameStorage::small();
+/// assert!(size_of_val(&STORAGE) < size_of::<FrameStorage<5, 2>>());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Small;
+
+impl sealed::Sealed for Small {}
+impl Place for Small {
+    type Slot<T> = InlineSlot<T>;
+    type Culling<T> = Absent<T>;
 }
 
 /// A [`FrameStorage`] whose tables are each boxed on the heap ([`FrameStorage::on_heap`];
@@ -128,6 +186,17 @@ impl sealed::Sealed for Heap {}
 #[cfg(feature = "std")]
 impl Place for Heap {
     type Slot<T> = std::boxed::Box<T>;
+    type Culling<T> = std::boxed::Box<T>;
+}
+
+#[cfg(feature = "std")]
+impl<T> Maybe<T> for std::boxed::Box<T> {
+    fn get(&self) -> Option<&T> {
+        Some(self)
+    }
+    fn get_mut(&mut self) -> Option<&mut T> {
+        Some(self)
+    }
 }
 
 impl<const S: usize, const L: usize> FrameStorage<S, L, Inline> {
@@ -166,6 +235,49 @@ impl<const S: usize, const L: usize> FrameStorage<S, L, Inline> {
         #[cfg(lanes)]
         box_rows: InlineSlot(heapless::Vec::new()),
         bvh: InlineSlot(Bvh::EMPTY),
+    };
+}
+
+impl<const S: usize, const L: usize> FrameStorage<S, L, Small> {
+    /// Empty storage for at most 8 spheres, without the tables only larger capacities use
+    /// ([`Small`]); [`Frame::new`] fills it. A `const fn`, for a `static`. A capacity above 8
+    /// does not compile.
+    ///
+    /// ```
+    /// use microray::render::{FrameStorage, Small};
+    /// let storage: FrameStorage<8, 2, Small> = FrameStorage::small();
+    /// # let _ = storage;
+    /// ```
+    ///
+    /// ```compile_fail
+    /// use microray::render::{FrameStorage, Small};
+    /// let storage: FrameStorage<9, 2, Small> = FrameStorage::small();
+    /// ```
+    pub const fn small() -> Self {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::FITS_SMALL;
+        Self::EMPTY_SMALL
+    }
+
+    /// A capacity that never sorts sweeps or builds a hierarchy (`Frame::SWEEPS`).
+    const FITS_SMALL: () = assert!(S <= 8, "a Small storage holds at most 8 spheres");
+
+    const EMPTY_SMALL: Self = FrameStorage {
+        eye: InlineSlot(heapless::Vec::new()),
+        boxes: InlineSlot(heapless::Vec::new()),
+        lights: InlineSlot([const { heapless::Vec::new() }; L]),
+        sweeps: Absent(core::marker::PhantomData),
+        swept: 0,
+        entries: Absent(core::marker::PhantomData),
+        #[cfg(lanes)]
+        sort_room: Absent(core::marker::PhantomData),
+        all: InlineSlot(heapless::Vec::new()),
+        near: InlineSlot(heapless::Vec::new()),
+        #[cfg(lanes)]
+        pile: InlineSlot(heapless::Vec::new()),
+        #[cfg(lanes)]
+        box_rows: InlineSlot(heapless::Vec::new()),
+        bvh: Absent(core::marker::PhantomData),
     };
 }
 
@@ -250,6 +362,17 @@ fn boxed_array<T: Empty, const N: usize>() -> std::boxed::Box<[T; N]> {
 impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
     /// Fills the tables for `scene` seen by `camera`, in place: nothing of capacity size is
     /// built elsewhere and moved in.
+    /// The sweeps of the last frame filled.
+    pub(super) fn built_sweeps(&self) -> &[Sweep<S>] {
+        let sweeps = self.sweeps.get().and_then(|s| s.get(..self.swept));
+        sweeps.unwrap_or(&[])
+    }
+
+    /// The hierarchy of the last frame filled, if the storage holds one.
+    pub(super) fn bvh(&self) -> Option<&Bvh<S>> {
+        self.bvh.get()
+    }
+
     pub(super) fn fill(&mut self, scene: &Scene<S, L>, camera: &Camera) {
         // The capacity decides, a constant: a capacity of 8 or less links neither the sweeps
         // nor the hierarchy, whose storage then stays empty.
@@ -277,9 +400,9 @@ impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
         }
         #[cfg(lanes)]
         super::lanes::index_boxes(&self.boxes, &mut self.box_rows);
-        if sweeps {
+        if let (true, Some(bvh)) = (sweeps, self.bvh.get_mut()) {
             let secondary = scene.has_secondary().then_some(scene.spheres());
-            self.bvh.fill(secondary.unwrap_or(&[]));
+            bvh.fill(secondary.unwrap_or(&[]));
         }
         let axes = camera.basis();
         for consts in self.lights.iter_mut() {
@@ -291,17 +414,18 @@ impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
                     let _ = consts.push(Prepared::exact(origin, s).c);
                 }
             }
-            if scene.shadows() && sweeps {
-                if let Some(sweep) = self.sweeps.get_mut(self.swept) {
-                    sweep.clear();
-                    #[cfg(lanes)]
-                    let room = &mut *self.sort_room;
-                    #[cfg(not(lanes))]
-                    let room = &mut ();
-                    let (spheres, all) = (scene.spheres(), &mut *self.entries);
-                    sweep.fill(light, spheres, axes.0, axes.1, all, room);
-                    self.swept += 1;
-                }
+            if !(scene.shadows() && sweeps) {
+                continue;
+            }
+            #[cfg(lanes)]
+            let room = self.sort_room.get_mut();
+            #[cfg(not(lanes))]
+            let room = Some(&mut ());
+            let sweep = self.sweeps.get_mut().and_then(|s| s.get_mut(self.swept));
+            if let (Some(sweep), Some(all), Some(room)) = (sweep, self.entries.get_mut(), room) {
+                sweep.clear();
+                sweep.fill(light, scene.spheres(), axes.0, axes.1, all, room);
+                self.swept += 1;
             }
         }
     }

@@ -26,6 +26,7 @@ use core::ptr::addr_of_mut;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 use embedded_graphics::pixelcolor::Rgb565;
+use microray::render::Small;
 use microray::{Camera, Frame, FrameStorage};
 
 use board::{exit, paint_stack, stack_high_water, start_clock, ticks};
@@ -39,8 +40,8 @@ const BOARD: &str = "microbit";
 /// The scene, built in place by `setup` (const-initialised empty: no copy on the stack).
 static mut SCENE: BenchScene = BenchScene::new();
 /// The frame's per-frame tables, in a static as the scene.
-type Storage = FrameStorage<SPHERES, LIGHTS>;
-static mut STORAGE: Storage = FrameStorage::new();
+type Storage = FrameStorage<SPHERES, LIGHTS, Small>;
+static mut STORAGE: Storage = FrameStorage::small();
 
 /// The strip buffer: one `Rgb565` row, the firmware's only pixel memory (in `.bss`).
 static mut STRIP: [Rgb565; WIDTH as usize * STRIP_ROWS] =

@@ -288,7 +288,7 @@ pub const EXPECTED: [u32; COUNT] = [
 pub fn crc_of(
     k: usize,
     scene: &mut RandomScene,
-    storage: &mut microray::FrameStorage<SPHERES, LIGHTS>,
+    storage: &mut microray::FrameStorage<SPHERES, LIGHTS, microray::render::Small>,
 ) -> Result<u32, Error> {
     let (camera, options) = build(k, scene)?;
     let frame = Frame::new(scene, &camera, options, storage)?;

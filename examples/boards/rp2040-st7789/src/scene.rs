@@ -2,6 +2,7 @@
 //! four spheres, a point and a directional light, shadows), seen by a camera of this panel's
 //! size. Scene, camera, frame tables and frame live in statics, not on the stack.
 
+use microray::render::Small;
 use microray::{
     Camera, Color, Error, Frame, FrameStorage, Light, Material, RenderOptions, Scene, Sphere, Vec3,
 };
@@ -68,8 +69,10 @@ pub fn frame(width: u32, height: u32) -> &'static BoardFrame {
     let up = Vec3::new(0.0, 1.0, 0.0);
     let camera = Camera::new(eye, look_at, up, 45.0, width, height).unwrap();
     let camera = cortex_m::singleton!(: Camera = camera).unwrap();
+    // The layout of at most 8 spheres: no room for the tables only larger scenes use.
     let storage =
-        cortex_m::singleton!(: FrameStorage<SPHERES, LIGHTS> = FrameStorage::new()).unwrap();
+        cortex_m::singleton!(: FrameStorage<SPHERES, LIGHTS, Small> = FrameStorage::small())
+            .unwrap();
     let frame = Frame::new(scene, camera, RenderOptions::default(), storage).unwrap();
     cortex_m::singleton!(: BoardFrame = frame).unwrap()
 }

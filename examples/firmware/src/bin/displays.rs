@@ -24,13 +24,14 @@ use core::ptr::addr_of_mut;
 
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
+use microray::render::Small;
 use microray::{Camera, Frame, FrameStorage};
 
 use board::{exit, paint_stack, stack_high_water, start_clock, ticks};
 use scene::{BenchScene, HEIGHT, LIGHTS, SPHERES, WIDTH};
 
 static mut SCENE: BenchScene = BenchScene::new();
-static mut STORAGE: FrameStorage<SPHERES, LIGHTS> = FrameStorage::new();
+static mut STORAGE: FrameStorage<SPHERES, LIGHTS, Small> = FrameStorage::small();
 static mut CAMERA: Option<Camera> = None;
 static mut FRAME: Option<Frame<'static, SPHERES, LIGHTS>> = None;
 

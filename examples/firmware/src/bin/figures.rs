@@ -23,6 +23,7 @@ use core::ptr::addr_of_mut;
 
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
+use microray::render::Small;
 use microray::{Frame, FrameStorage};
 
 use board::{exit, start_clock, ticks};
@@ -36,7 +37,7 @@ const BOARD: &str = "microbit";
 /// The scene, rebuilt in place for each figure (const-initialised empty: no copy on the stack).
 static mut SCENE: FigureScene = FigureScene::new();
 /// The frame's per-frame tables, refilled by each frame.
-static mut STORAGE: FrameStorage<SPHERES, LIGHTS> = FrameStorage::new();
+static mut STORAGE: FrameStorage<SPHERES, LIGHTS, Small> = FrameStorage::small();
 
 /// Set-up failed: report it and exit QEMU with a failure status.
 fn fail(name: &str, what: &str, e: microray::Error) -> ! {

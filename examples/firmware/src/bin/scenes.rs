@@ -20,6 +20,7 @@ use core::ptr::addr_of_mut;
 
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
+use microray::render::Small;
 use microray::FrameStorage;
 
 use board::exit;
@@ -28,7 +29,7 @@ use random_scenes::{crc_of, RandomScene, COUNT, EXPECTED, LIGHTS, SPHERES};
 /// The scene, rebuilt in place for each seed (const-initialised empty: no copy on the stack).
 static mut SCENE: RandomScene = RandomScene::new();
 /// The frame's per-frame tables, refilled by each frame.
-static mut STORAGE: FrameStorage<SPHERES, LIGHTS> = FrameStorage::new();
+static mut STORAGE: FrameStorage<SPHERES, LIGHTS, Small> = FrameStorage::small();
 
 #[entry]
 fn main() -> ! {
