@@ -172,9 +172,6 @@ fn limit(tmax: f32) -> f32 {
 }
 
 impl<const S: usize> Bvh<S> {
-    /// No hierarchy, for a storage that holds none ([`super::Small`]).
-    pub(super) const NONE: &'static Self = &Self::EMPTY;
-
     pub(super) const EMPTY: Self = Bvh {
         nodes: heapless::Vec::new(),
         boxes: [const { heapless::Vec::new() }; 6],

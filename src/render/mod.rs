@@ -153,8 +153,6 @@ pub struct Frame<'a, const S: usize, const L: usize> {
     tables: Tables<'a, S, L>,
     /// Shadows on and at least one light: the only case that casts shadow rays.
     shadow_rays: bool,
-    /// Secondary rays go through the hierarchy in `tables` (`bvh.rs`): the frame has one.
-    culls: bool,
 }
 
 /// A frame's view of its [`FrameStorage`], wherever its tables live.
@@ -170,7 +168,9 @@ struct Tables<'a, const S: usize, const L: usize> {
     pile: &'a [f32],
     #[cfg(lanes)]
     box_rows: &'a [PixelBox],
-    /// `None` where the storage holds no hierarchy ([`Small`]).
+    /// The hierarchy that culls secondary rays (`bvh.rs`), where the frame built one: `None`
+    /// for a scene without secondary rays or of 48 spheres or less, and in a [`Small`]
+    /// storage, which holds none.
     bvh: Option<&'a Bvh<S>>,
 }
 
@@ -227,10 +227,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 pile: &storage.pile,
                 #[cfg(lanes)]
                 box_rows: &storage.box_rows,
-                bvh: storage.bvh(),
+                bvh: storage.bvh().filter(|b| b.built()),
             },
             shadow_rays: scene.shadows() && !scene.lights().is_empty(),
-            culls: Self::SWEEPS && storage.bvh().is_some_and(|b| b.built()),
         })
     }
 

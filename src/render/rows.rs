@@ -69,7 +69,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let first = self.primary_hit(ray);
             // A constant test first: a capacity of 8 or less has no hierarchy, and links no
             // second copy of the shading.
-            if Self::SWEEPS && self.culls {
+            if self.culled().is_some() {
                 return self.shade_brute(ray, first);
             }
             self.shade_from(ray, first, None)

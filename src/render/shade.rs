@@ -83,6 +83,18 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         }
     }
 
+    /// The hierarchy that culls the frame's secondary rays, if it has one; a constant `None`
+    /// at a capacity of 8 or less, which then links neither the hierarchy's walks nor their
+    /// shading.
+    #[inline(always)]
+    pub(super) fn culled(&self) -> Option<&'a Bvh<S>> {
+        if Self::SWEEPS {
+            self.tables.bvh
+        } else {
+            None
+        }
+    }
+
     /// The shading of a hit that is not a span's stored one: `shade_from`'s primary hit (with
     /// its lists) and the secondary hits of the walk without a hierarchy (with none). Out of
     /// line: one copy for both beside `shade_stored`'s inlined one, where each caller inlined
@@ -99,25 +111,25 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
     /// same hits either way.
     #[inline(always)]
     fn follow_secondary(&self, ray: &Ray, h: &Hit, colour: Color) -> Color {
-        if Self::SWEEPS && self.culls {
-            return self.follow_culled(ray, h, colour);
+        if let Some(bvh) = self.culled() {
+            return self.follow_culled(bvh, ray, h, colour);
         }
         let local = self.bounce::<false>();
         crate::shading::follow_secondary(self.scene, ray, h, colour, local, EverySphere)
-    }
-
-    /// The frame's hierarchy, which `culls` says it has; an empty one otherwise, which only
-    /// the frames that cull secondary rays link (`SWEEPS`), never a [`Small`] storage's.
-    fn bvh(&self) -> &'a Bvh<S> {
-        self.tables.bvh.unwrap_or(Bvh::NONE)
     }
 
     /// [`Frame::follow_secondary`] through the hierarchy. Out of line: the pixel loops inline
     /// the other walk's call, and a second beside it cost the mirror and glass scenes 3–6 %
     /// of their frame time (a larger loop, and the shadow test no longer inlined).
     #[inline(never)]
-    pub(super) fn follow_culled(&self, ray: &Ray, h: &Hit, colour: Color) -> Color {
-        let (local, find) = (self.bounce::<true>(), Culled(self.bvh()));
+    pub(super) fn follow_culled(
+        &self,
+        bvh: &'a Bvh<S>,
+        ray: &Ray,
+        h: &Hit,
+        colour: Color,
+    ) -> Color {
+        let (local, find) = (self.bounce::<true>(), Culled(bvh));
         crate::shading::follow_secondary(self.scene, ray, h, colour, local, find)
     }
 
@@ -134,8 +146,17 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let cands = list.iter().map(|s| s.index());
             return in_shadow_among(self.scene, hit, light, v, consts, cands);
         }
-        let cands = self.bvh().shadow_candidates(hit, light, v);
-        in_shadow_among(self.scene, hit, light, v, consts, cands)
+        match self.tables.bvh {
+            Some(bvh) => {
+                let cands = bvh.shadow_candidates(hit, light, v);
+                in_shadow_among(self.scene, hit, light, v, consts, cands)
+            }
+            // Never: only a frame with a hierarchy walks its secondary rays here.
+            None => {
+                let every = 0..self.scene.spheres().len();
+                in_shadow_among(self.scene, hit, light, v, consts, every)
+            }
+        }
     }
 
     /// The spheres that can block light `i` at the secondary hit `hit`, as light `i`'s sweep
@@ -200,8 +221,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             return scene.background();
         };
         let colour = local(&h, ray, true);
-        if Self::SWEEPS && self.culls {
-            return self.follow_culled(ray, &h, colour);
+        if let Some(bvh) = self.culled() {
+            return self.follow_culled(bvh, ray, &h, colour);
         }
         // Hosts: the walk the lanes' mirrors share (`follow4`). Cortex-M size builds keep the
         // one copy of the shading that the walk and the primary hit share here.

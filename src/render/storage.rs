@@ -360,8 +360,6 @@ fn boxed_array<T: Empty, const N: usize>() -> std::boxed::Box<[T; N]> {
 }
 
 impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
-    /// Fills the tables for `scene` seen by `camera`, in place: nothing of capacity size is
-    /// built elsewhere and moved in.
     /// The sweeps of the last frame filled.
     pub(super) fn built_sweeps(&self) -> &[Sweep<S>] {
         let sweeps = self.sweeps.get().and_then(|s| s.get(..self.swept));
@@ -373,9 +371,12 @@ impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
         self.bvh.get()
     }
 
+    /// Fills the tables for `scene` seen by `camera`, in place: nothing of capacity size is
+    /// built elsewhere and moved in.
     pub(super) fn fill(&mut self, scene: &Scene<S, L>, camera: &Camera) {
         // The capacity decides, a constant: a capacity of 8 or less links neither the sweeps
-        // nor the hierarchy, whose storage then stays empty.
+        // nor the hierarchy, whose tables then stay empty (or, in a `Small` storage, are not
+        // there at all).
         let sweeps = Frame::<'_, S, L>::SWEEPS;
         self.eye.clear();
         self.boxes.clear();

@@ -380,7 +380,8 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
         let eye = self.camera.eye();
         let mut out = [Vec3::ZERO; 4];
         // The mirror rays in lanes where the walk tests every sphere.
-        let left = if Self::SWEEPS && self.culls {
+        let culled = self.culled();
+        let left = if culled.is_some() {
             active & 0b1111
         } else {
             self.mirror4(h, dir, colour, active & 0b1111, &mut out)
@@ -390,10 +391,9 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
                 let (ray, hit, c) = (Ray::new(eye, dir.lane(l)), h.hit(l), colour.lane(l));
                 // The scalar path's walks, out of line: a copy of the walk of its own here
                 // would cost the scalar path's (`Frame::follow_every`).
-                *o = if Self::SWEEPS && self.culls {
-                    self.follow_culled(&ray, &hit, c)
-                } else {
-                    self.follow_every(&ray, &hit, c)
+                *o = match culled {
+                    Some(bvh) => self.follow_culled(bvh, &ray, &hit, c),
+                    None => self.follow_every(&ray, &hit, c),
                 };
             }
         }
