@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # A/B timing of two builds of the desktop renderer on one scene: N interleaved pairs of runs
-# (one thread each), medians of each and of the per-pair ratios, and whether the PNGs agree.
+# (one thread each, or `THREADS=N`), medians of each and of the per-pair ratios, and whether the
+# PNGs agree.
 # Compare only the ratios of one run: the machines here are shared and noisy.
 #
 #   bench/ab.sh OLD_RENDER NEW_RENDER [N=21] [SCENE=bench/scenes/target.toml]
 #
 # Times the renderer's `render:` line; `LINE='scene file' bench/ab.sh ...` times another of its
-# `NAME: X ms` lines (`scene file:`, reading and checking the TOML).
+# `NAME: X ms` lines (`scene file:`, reading and checking the TOML); `THREADS=2 bench/ab.sh ...`
+# renders on two threads (on an otherwise idle machine).
 #
 # OLD_RENDER and NEW_RENDER are copies of target/release/examples/render built from the two
 # versions (e.g. `git stash; cargo build --release --example render; cp ... /tmp/old`).
@@ -17,7 +19,8 @@ scene=${4:-$(dirname "$0")/scenes/target.toml}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 line=${LINE:-render}
-ms() { "$1" "$scene" -o "$2" --threads 1 | sed -n "s/^$line: \(.*\) ms\$/\1/p"; }
+threads=${THREADS:-1}
+ms() { "$1" "$scene" -o "$2" --threads "$threads" | sed -n "s/^$line: \(.*\) ms\$/\1/p"; }
 for _ in $(seq "$n"); do
   ms "$a" "$out/a.png" >> "$out/a.txt"
   ms "$b" "$out/b.png" >> "$out/b.txt"
