@@ -420,8 +420,12 @@ impl<const S: usize, const L: usize, P: Place> FrameStorage<S, L, P> {
             }
             #[cfg(lanes)]
             let room = self.sort_room.get_mut();
+            // A `let` of its own keeps the `()` to the block's end: Rust 1.87, the crate's
+            // `rust-version`, drops a temporary made inside `Some(..)` with its statement.
             #[cfg(not(lanes))]
-            let room = Some(&mut ());
+            let room = &mut ();
+            #[cfg(not(lanes))]
+            let room = Some(room);
             let sweep = self.sweeps.get_mut().and_then(|s| s.get_mut(self.swept));
             if let (Some(sweep), Some(all), Some(room)) = (sweep, self.entries.get_mut(), room) {
                 sweep.clear();
