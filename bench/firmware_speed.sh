@@ -53,6 +53,13 @@ s = s.replace("""    scene.add_light(Light::Point {""", """    if option_env!("M
     }
     scene.add_light(Light::Point {""", 1)
 open(p, "w").write(s)
+# A capacity of 16 needs the `Inline` layout: `Small` holds at most 8 spheres.
+for f in glob.glob(work + "/src/*.rs") + glob.glob(work + "/src/bin/*.rs"):
+    s = open(f).read()
+    t = s.replace("microray::render::Small", "microray::render::Inline")
+    t = t.replace("LIGHTS, Small>", "LIGHTS, Inline>").replace("FrameStorage::small()", "FrameStorage::new()")
+    if t != s:
+        open(f, "w").write(t)
 PY
 cd "$work"
 printf '%-8s %-6s %12s %10s %s\n' spheres path instr/pixel crc32 render_stack_bytes
