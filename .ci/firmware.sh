@@ -33,6 +33,12 @@ for features in outside-test inline-shading; do
   FEATURES=$features examples/firmware/run.sh m4f
 done
 
+# A capacity of 16 spheres, which builds the shadow sweeps that the firmware's 5 leave out: the
+# culled pixels against brute force on the M4F, 5 and 16 spheres (and the figures docs/speed.md
+# quotes).
+echo "== bench/firmware_speed.sh"
+bench/firmware_speed.sh
+
 # The published scenes people compare with (FTB's, tinyraytracer's): the host's CRCs on both
 # boards, and their instructions a pixel.
 for board in m4f m0; do

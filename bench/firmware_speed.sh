@@ -4,7 +4,8 @@
 # variant. Works on a copy of the firmware crate (never edits it): its microray dependency is
 # pointed at this checkout, MR_SPHERES16 adds 11 small spheres, MR_BRUTE makes the timed pass
 # call Frame::render_rows_brute row by row instead of Frame::draw. Both passes fold the same
-# bytes into the CRC, so equal CRCs mean equal pixels.
+# bytes into the CRC, so equal CRCs mean equal pixels: the script fails when they differ (or a
+# build does not run), so CI runs it (.ci/firmware.sh).
 #
 #   bench/firmware_speed.sh [FIRMWARE_DIR]     (default: examples/firmware of this checkout)
 set -euo pipefail
@@ -63,7 +64,9 @@ for f in glob.glob(work + "/src/*.rs") + glob.glob(work + "/src/bin/*.rs"):
 PY
 cd "$work"
 printf '%-8s %-6s %12s %10s %s\n' spheres path instr/pixel crc32 render_stack_bytes
+failed=0
 for sc in 5 16; do
+  crcs=()
   for mode in accelerated brute; do
     envs=(MR_X=1)
     [ "$sc" = 16 ] && envs+=(MR_SPHERES16=1)
@@ -76,5 +79,12 @@ for sc in 5 16; do
     # for the 16-sphere variant; the CRCs are compared here instead)
     get() { sed -n "s/^$1=//p" <<<"$out"; }
     printf '%-8s %-6s %12s %10s %s\n' "$sc" "$mode" "$(get instructions_per_pixel)" "$(get crc32)" "$(get render_stack_bytes)"
+    crcs+=("$(get crc32)")
   done
+  # The culled pixels are brute force's, on a capacity that builds the shadow sweeps.
+  if [ -z "${crcs[0]}" ] || [ "${crcs[0]}" != "${crcs[1]}" ]; then
+    echo "$sc spheres: the two paths' CRCs differ or are missing" >&2
+    failed=1
+  fi
 done
+exit "$failed"
