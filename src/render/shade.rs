@@ -146,7 +146,7 @@ impl<'a, const S: usize, const L: usize> Frame<'a, S, L> {
             let cands = list.iter().map(|s| s.index());
             return in_shadow_among(self.scene, hit, light, v, consts, cands);
         }
-        match self.tables.bvh {
+        match self.culled() {
             Some(bvh) => {
                 let cands = bvh.shadow_candidates(hit, light, v);
                 in_shadow_among(self.scene, hit, light, v, consts, cands)
