@@ -271,7 +271,7 @@ fn walled<const S: usize, const L: usize>(
 }
 
 /// Thousands of spheres, where hosts narrow crowded spans, skip spheres behind a deep pile's
-/// first hits, and keep their shadow sweeps in slabs (from 4096 spheres a light): a wall, a
+/// first hits, and keep their shadow sweeps in slabs (from 512 spheres a light): a wall, a
 /// grid of 4096 small spheres over the screen, and 400 packed in a ball at its centre, under a
 /// point and a directional light with shadows.
 #[test]
