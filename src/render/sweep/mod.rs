@@ -60,9 +60,10 @@ pub(super) struct Sweep<const S: usize> {
 }
 
 /// The entries from which a host's sweep keeps slabs sorted by the second key
-/// ([`Sweep::slabs`]). Below it they would save a frame of spread or clustered spheres at most
-/// about 0.5 % of its instructions (their sort included) and cost a frame of mirrors up to
-/// 0.8 %, whose secondary hits each search a sweep for a small ball.
+/// ([`Sweep::slabs`]). Below it they would save a frame of spread or clustered spheres 0.2–1.0 %
+/// of its instructions (their sort included) and cost a frame of mirrors 0.4–0.8 %, whose
+/// secondary hits each search a sweep for a small ball (`bench/scale_scenes.py`'s scenes of 300
+/// to 511 spheres).
 pub(super) const SLABS_FROM: usize = 512;
 
 /// Each slab's bucket index by `key2` ([`Sweep::first_in_slab`]): `per_slab` buckets a slab
